@@ -1,0 +1,103 @@
+// skidsim: one command, with subcommands. Thin: parse, wire, report.
+#include <CLI/CLI.hpp>
+#include <benchmark/benchmark.h>
+
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "apps/pour_job.h"
+#include "io/atomic_file.h"
+#include "io/soil_table.h"
+
+namespace {
+
+int run_bench(bool json, const std::string& filter, double min_time_s, const std::string& out_file) {
+  std::vector<std::string> args = {"skidsim-bench"};
+  if (json) args.push_back("--benchmark_format=json");
+  if (!filter.empty()) args.push_back("--benchmark_filter=" + filter);
+  if (min_time_s > 0) args.push_back("--benchmark_min_time=" + std::to_string(min_time_s));
+  if (!out_file.empty()) {
+    args.push_back("--benchmark_out=" + out_file);
+    args.push_back("--benchmark_out_format=json");
+  }
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  int argc = static_cast<int>(argv.size());
+  benchmark::Initialize(&argc, argv.data());
+  const std::size_t ran = benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  if (ran == 0) {
+    std::cerr << "skidsim bench: no benchmark matches '" << filter << "'\n";
+    return 2;
+  }
+  return 0;
+}
+
+int list_soils(const std::string& path) {
+  const auto table = skidsim::io::load_soil_table(path);
+  std::cout << "soils in " << path << ":\n";
+  for (const auto& [id, rec] : table) {
+    std::cout << "  " << id << ": " << rec.description << " (density " << rec.flow.bulk_density_kg_m3
+              << " kg/m^3, repose " << rec.flow.repose_angle_deg << " deg, stop " << rec.flow.stop_angle_deg
+              << " deg)\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "skidsim: a headless training simulator for a skid-steer loader working sand and soil.\n"
+      "The granular terrain is a cellular automaton (docs/terrain_model.md)."};
+  app.require_subcommand(1);
+
+  skidsim::apps::PourJob pour;
+  CLI::App* pour_cmd = app.add_subcommand(
+      "pour", "Pour sand from a hopper onto a site, let it settle, and write a run directory\n"
+              "(summary.json, final terrain as 16-bit PNG height maps with JSON metadata)");
+  pour_cmd->add_option("--out", pour.out_dir, "Run directory to write")->capture_default_str();
+  pour_cmd->add_option("--soil", pour.soil_id, "Soil id from the soil table")->capture_default_str();
+  pour_cmd->add_option("--soil-table", pour.soil_table_path, "Soil table XML (default: assets/soils.xml)");
+  pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(CLI::PositiveNumber);
+  pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(CLI::PositiveNumber);
+  pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_option("--rate-kg-s", pour.pour_rate_kg_per_s, "Hopper flow, kg/s")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_option("--pour-s", pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_option("--hopper-m", pour.hopper_radius_m, "Hopper outlet radius, m")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_option("--settle-s", pour.max_settle_s, "Longest settling time after the pour, s")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_flag("--open-edges", pour.open_edges, "Site edges are drop-offs (material leaving is counted off-site) instead of walls");
+
+  bool bench_json = false;
+  std::string bench_filter, bench_out;
+  double bench_min_time = 0.0;
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "Run the benchmarks (Google Benchmark): a table by default, --json for machines");
+  bench_cmd->add_flag("--json", bench_json, "Print JSON instead of a table");
+  bench_cmd->add_option("--filter", bench_filter, "Regular expression selecting benchmarks");
+  bench_cmd->add_option("--min-time", bench_min_time, "Minimum seconds per benchmark");
+  bench_cmd->add_option("--out", bench_out, "Also write the results as JSON to this file");
+
+  std::string soil_table = skidsim::io::default_soil_table_path();
+  CLI::App* soils_cmd = app.add_subcommand("soils", "List the soils of the soil table");
+  soils_cmd->add_option("--table", soil_table, "Soil table XML")->capture_default_str();
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*pour_cmd) return skidsim::apps::run_pour_job(pour);
+    if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
+    if (*soils_cmd) return list_soils(soil_table);
+  } catch (const skidsim::io::InputError& e) {
+    std::cerr << "skidsim: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "skidsim: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "skidsim: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,131 @@
+#include "io/soil_table.h"
+
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <set>
+#include <sstream>
+
+#include "io/atomic_file.h"
+
+namespace skidsim::io {
+namespace {
+
+using tinyxml2::XMLElement;
+
+[[noreturn]] void fail(const std::string& path, const XMLElement* e, const std::string& what) {
+  std::ostringstream msg;
+  msg << path << ":" << (e ? e->GetLineNum() : 0) << ": ";
+  if (e) msg << "<" << e->Name() << "> ";
+  msg << what;
+  throw InputError(msg.str());
+}
+
+// Reads a required numeric attribute and checks that every attribute of the
+// element is one the caller knows (a typo must not pass silently).
+class AttributeReader {
+ public:
+  AttributeReader(const std::string& path, const XMLElement* e) : path_(path), e_(e) {}
+  double number(const char* name) {
+    known_.insert(name);
+    const char* text = e_->Attribute(name);
+    if (!text) fail(path_, e_, std::string("missing attribute '") + name + "'");
+    double v = 0.0;
+    if (e_->QueryDoubleAttribute(name, &v) != tinyxml2::XML_SUCCESS || !std::isfinite(v))
+      fail(path_, e_, std::string("attribute '") + name + "' = \"" + text + "\": expected a number");
+    return v;
+  }
+  std::string text(const char* name, bool required) {
+    known_.insert(name);
+    const char* t = e_->Attribute(name);
+    if (!t && required) fail(path_, e_, std::string("missing attribute '") + name + "'");
+    return t ? t : "";
+  }
+  void reject_unknown() const {
+    for (const tinyxml2::XMLAttribute* a = e_->FirstAttribute(); a; a = a->Next())
+      if (!known_.count(a->Name())) fail(path_, e_, std::string("unknown attribute '") + a->Name() + "'");
+  }
+
+ private:
+  std::string path_;
+  const XMLElement* e_;
+  std::set<std::string> known_;
+};
+
+}  // namespace
+
+SoilTable load_soil_table(const std::string& path) {
+  tinyxml2::XMLDocument doc;
+  if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
+    std::ostringstream msg;
+    msg << path << ":" << doc.ErrorLineNum() << ": " << doc.ErrorStr();
+    throw InputError(msg.str());
+  }
+  const XMLElement* root = doc.RootElement();
+  if (!root || std::string(root->Name()) != "soils") fail(path, root, "expected the root element <soils>");
+
+  SoilTable table;
+  for (const XMLElement* s = root->FirstChildElement(); s; s = s->NextSiblingElement()) {
+    if (std::string(s->Name()) != "soil") fail(path, s, "unknown element (expected <soil>)");
+    AttributeReader soil_attrs(path, s);
+    SoilRecord rec;
+    rec.line = s->GetLineNum();
+    rec.flow.name = soil_attrs.text("id", true);
+    rec.description = soil_attrs.text("description", false);
+    soil_attrs.reject_unknown();
+    if (table.count(rec.flow.name)) fail(path, s, "duplicate soil id '" + rec.flow.name + "'");
+
+    const XMLElement* flow = s->FirstChildElement("flow");
+    const XMLElement* tm = s->FirstChildElement("terramechanics");
+    if (!flow) fail(path, s, "missing child <flow>");
+    if (!tm) fail(path, s, "missing child <terramechanics>");
+    for (const XMLElement* c = s->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string name = c->Name();
+      if (name != "flow" && name != "terramechanics") fail(path, c, "unknown element (expected <flow> or <terramechanics>)");
+    }
+
+    AttributeReader f(path, flow);
+    rec.flow.bulk_density_kg_m3 = f.number("bulk_density_kg_m3");
+    rec.flow.repose_angle_deg = f.number("repose_angle_deg");
+    rec.flow.stop_angle_deg = f.number("stop_angle_deg");
+    rec.flow.rolling_speed_m_per_s = f.number("rolling_speed_m_per_s");
+    rec.flow.rolling_layer_m = f.number("rolling_layer_m");
+    rec.flow.min_flow_layer_m = f.number("min_flow_layer_m");
+    f.reject_unknown();
+    try {
+      terrain::validate(rec.flow);
+    } catch (const std::invalid_argument& e) {
+      fail(path, flow, e.what());
+    }
+
+    AttributeReader t(path, tm);
+    auto& m = rec.terramechanics;
+    m.n = t.number("n");
+    m.k_c_kN_per_m_n1 = t.number("k_c");
+    m.k_phi_kN_per_m_n2 = t.number("k_phi");
+    m.cohesion_kPa = t.number("cohesion_kPa");
+    m.friction_angle_deg = t.number("friction_angle_deg");
+    m.shear_modulus_K_m = t.number("K_m");
+    t.reject_unknown();
+    if (!(m.n > 0.0)) fail(path, tm, "attribute 'n' must be > 0");
+    if (m.k_c_kN_per_m_n1 < 0.0 || m.k_phi_kN_per_m_n2 < 0.0 || !(m.k_c_kN_per_m_n1 + m.k_phi_kN_per_m_n2 > 0.0))
+      fail(path, tm, "attributes 'k_c', 'k_phi' must be >= 0 and not both 0");
+    if (m.cohesion_kPa < 0.0) fail(path, tm, "attribute 'cohesion_kPa' must be >= 0");
+    if (!(m.friction_angle_deg >= 0.0 && m.friction_angle_deg < 90.0)) fail(path, tm, "attribute 'friction_angle_deg' must be in [0, 90)");
+    if (!(m.shear_modulus_K_m > 0.0)) fail(path, tm, "attribute 'K_m' must be > 0");
+
+    table.emplace(rec.flow.name, rec);
+  }
+  if (table.empty()) fail(path, root, "no <soil> entries");
+  return table;
+}
+
+std::string default_assets_dir() {
+  if (const char* env = std::getenv("SKIDSIM_ASSETS")) return env;
+  return SKIDSIM_ASSETS_DIR;
+}
+
+std::string default_soil_table_path() { return default_assets_dir() + "/soils.xml"; }
+
+}  // namespace skidsim::io

@@ -1,0 +1,75 @@
+// The avalanche flow law of the granular automaton: how much material a cell
+// sends downhill per sweep, derived from physical soil data, and the stability
+// bound of the explicit sweep. See docs/terrain_model.md for the derivation.
+#pragma once
+
+#include <string>
+
+namespace skidsim::terrain {
+
+// Physical soil data that drives the avalanche rule (thesis 4.1.2, 4.4, 4.5).
+struct SoilFlowParameters {
+  std::string name = "dry_sand";
+  double bulk_density_kg_m3 = 1600.0;  // gamma
+  // alpha: slope at which material at rest starts to slide (Mohr-Coulomb,
+  // infinite-slope analysis 4.4.1: tan(alpha) = tan(phi) for c = 0).
+  double repose_angle_deg = 33.0;
+  // alpha_I < alpha: slope at which a running avalanche stops (4.5).
+  double stop_angle_deg = 30.0;
+  // v: downhill speed of the flowing layer (BCRE, 4.4.2).
+  double rolling_speed_m_per_s = 1.0;
+  // h_r: thickness of the layer that flows. See docs/terrain_model.md for why
+  // this is the failing layer of a slump (decimetres), not a few grains.
+  double rolling_layer_m = 0.3;
+  // h_stop: the thinnest layer that keeps flowing (Pouliquen 1999: a few to
+  // ten grain diameters near the repose angle). Close to alpha_I a flowing
+  // cell carries at least this layer at speed v: the flux does not fade away
+  // as the slope nears alpha_I, it is a transport (4.4.3) that stops when the
+  // slope falls below alpha_I, so avalanches end in finite time.
+  double min_flow_layer_m = 0.005;
+};
+
+// Throws std::invalid_argument naming the offending field when a value is out
+// of its physical range (negative density, alpha_I >= alpha, ...).
+void validate(const SoilFlowParameters& soil);
+
+// The flow law resolved for one grid and one simulation step.
+struct FlowLaw {
+  double tan_repose = 0.0;     // tan(alpha)
+  double tan_stop = 0.0;       // tan(alpha_I)
+  // Excess slope below which the flow is a transport of the h_stop layer:
+  // h_stop / h_r, i.e. tan(eta) - tan(alpha_I) for the switch angle eta.
+  double transport_excess = 0.0;
+  // z+ of (4.11) for ONE sweep (a sub-step), metres of height moved per unit
+  // of excess slope: z+ = dt_sweep * v * h_r / d.
+  double z_plus_per_sweep_m = 0.0;
+  int substeps = 1;            // sweeps per simulation step
+  double sweep_dt_s = 0.0;
+  double cell_size_m = 0.0;
+
+  // Height (m) a flowing cell at slope magnitude `tan_beta` sends downhill in
+  // one sweep, before it is split among its downhill neighbours: the rule
+  // (4.16) z+ (tan beta - tan alpha_I), diffusive (BCRE) above the switch
+  // angle eta, the transport z+ (tan eta - tan alpha_I) between alpha_I and
+  // eta, and nothing at or below alpha_I.
+  double moved_height_m(double tan_beta) const {
+    const double excess = tan_beta - tan_stop;
+    if (excess <= 0.0) return 0.0;
+    return z_plus_per_sweep_m * (excess > transport_excess ? excess : transport_excess);
+  }
+};
+
+// Largest z+/d per sweep for which the sweep keeps the discrete maximum
+// principle (no new extrema, no checkerboard): every pairwise flux is at most
+// (z+/d) times the height difference, a cell has 4 neighbours, so the new
+// surface is a convex combination of the old ones when 4 z+/d <= 1.
+inline constexpr double kMaxZPlusOverCell = 0.25;
+
+// Resolves the flow law for a grid of `cell_size_m` stepped every `step_dt_s`,
+// sub-stepping as the bound asks. Throws std::invalid_argument with a message
+// that gives the bound, the sub-steps needed and how to fix the parameters
+// when more than `max_substeps` would be needed.
+FlowLaw derive_flow_law(const SoilFlowParameters& soil, double cell_size_m,
+                        double step_dt_s, int max_substeps);
+
+}  // namespace skidsim::terrain

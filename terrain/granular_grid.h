@@ -1,0 +1,157 @@
+// The granular cellular automaton (thesis ch. 4, docs/terrain_model.md): a
+// regular grid of columns of material on a hard base, relaxed by avalanches.
+//
+// Material is kept as an exact integer amount per cell (quanta of
+// kHeightQuantumM metres of material height, i.e. kHeightQuantumM * d^2 m^3),
+// so every transfer conserves material exactly and the result of a sweep
+// does not depend on the order in which cells are visited.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "terrain/flow_law.h"
+
+namespace skidsim::terrain {
+
+// 2^-30 m of material height: sub-nanometre resolution, 8.6e9 m of range in
+// int64, and exact conversion to double for columns below 8e6 m.
+inline constexpr double kHeightQuantumM = 1.0 / 1073741824.0;
+
+enum class EdgeKind : std::uint8_t {
+  kClosed,  // a wall: nothing crosses it
+  kOpen,    // a drop-off: material crossing it is counted as lost off-site
+};
+
+enum Edge : int { kEdgeXMin = 0, kEdgeXMax = 1, kEdgeYMin = 2, kEdgeYMax = 3 };
+
+struct GridSpec {
+  int nx = 0;
+  int ny = 0;
+  double cell_size_m = 0.05;
+  // World position of the centre of cell (0, 0); cell (i, j) is at
+  // origin + d * (i, j).
+  Eigen::Vector2d origin_m = Eigen::Vector2d::Zero();
+  std::array<EdgeKind, 4> edges = {EdgeKind::kClosed, EdgeKind::kClosed,
+                                   EdgeKind::kClosed, EdgeKind::kClosed};
+};
+
+// Every amount of material the automaton has seen, in quanta. The invariant
+// initial + added == in_cells + removed + sum(off_site) holds exactly.
+struct MaterialLedger {
+  std::int64_t initial = 0;
+  std::int64_t added = 0;
+  std::int64_t removed = 0;
+  std::array<std::int64_t, 4> off_site = {0, 0, 0, 0};
+  std::int64_t in_cells = 0;
+  std::int64_t off_site_total() const {
+    return off_site[0] + off_site[1] + off_site[2] + off_site[3];
+  }
+  bool balanced() const { return initial + added == in_cells + removed + off_site_total(); }
+};
+
+// What the last step did (for benchmarks, statistics and the progress line).
+struct StepStats {
+  std::int64_t cells_checked = 0;  // cell visits over all sub-steps
+  std::int64_t cells_toppled = 0;  // visits that sent material
+  std::int64_t moved_quanta = 0;   // material moved between cells
+  int substeps = 0;
+};
+
+class GranularGrid {
+ public:
+  // Throws std::invalid_argument on a bad spec or soil, or when the flow step
+  // would need more than `max_substeps` sweeps per step to stay stable.
+  GranularGrid(const GridSpec& spec, const SoilFlowParameters& soil, double step_dt_s,
+               int max_substeps = 64);
+
+  const GridSpec& spec() const { return spec_; }
+  const SoilFlowParameters& soil() const { return soil_; }
+  const FlowLaw& flow_law() const { return law_; }
+  int nx() const { return spec_.nx; }
+  int ny() const { return spec_.ny; }
+  double cell_size_m() const { return spec_.cell_size_m; }
+  int index(int i, int j) const { return j * spec_.nx + i; }
+  bool contains(int i, int j) const { return i >= 0 && j >= 0 && i < spec_.nx && j < spec_.ny; }
+
+  // State (4.1.3): base B, material h, surface H = B + h, flowing flag I.
+  double base_m(int i, int j) const { return base_m_[index(i, j)]; }
+  double material_m(int i, int j) const { return quanta_[index(i, j)] * kHeightQuantumM; }
+  double surface_m(int i, int j) const { return base_m(i, j) + material_m(i, j); }
+  std::int64_t material_quanta(int i, int j) const { return quanta_[index(i, j)]; }
+  bool flowing(int i, int j) const { return (flags_[index(i, j)] & kFlowing) != 0; }
+
+  double quantum_volume_m3() const { return kHeightQuantumM * spec_.cell_size_m * spec_.cell_size_m; }
+  double quantum_mass_kg() const { return quantum_volume_m3() * soil_.bulk_density_kg_m3; }
+  // M = dx dy gamma h (4.1.3).
+  double material_mass_kg(int i, int j) const { return quanta_[index(i, j)] * quantum_mass_kg(); }
+  std::int64_t total_quanta() const;
+  double total_volume_m3() const { return total_quanta() * quantum_volume_m3(); }
+  MaterialLedger ledger() const;
+
+  // Initial state. set_* counts towards the ledger's `initial`, not `added`,
+  // and wakes the cell and its neighbours.
+  void set_base_m(int i, int j, double base_m);
+  void set_material_m(int i, int j, double material_m);
+
+  // External actions f1/f2 (4.3.3), applied between steps: a hopper pouring,
+  // a bucket digging. Amounts are rounded to whole quanta; the functions
+  // return the volume actually added or removed (removal is limited to what
+  // the cell holds: a cell never goes below its base).
+  double add_material_m3(int i, int j, double volume_m3);
+  double remove_material_m3(int i, int j, double volume_m3);
+
+  // One simulation step: law.substeps synchronous avalanche sweeps over the
+  // active cells. Does not allocate once the active set has reached its
+  // largest size so far.
+  void step();
+  const StepStats& last_step() const { return last_step_; }
+
+  // Cells that the next sweep will examine. Zero for a terrain at rest.
+  std::size_t active_cell_count() const { return pending_.size(); }
+  bool at_rest() const { return pending_.empty(); }
+
+  // Order-independence check: when non-zero, every sweep visits its active
+  // cells in an order shuffled with this seed. The result must not change.
+  void set_sweep_shuffle_seed(std::uint64_t seed) { shuffle_seed_ = seed; }
+
+  // Bytes of per-cell state (excluding the active-set scratch).
+  static constexpr std::size_t kStateBytesPerCell =
+      sizeof(std::int64_t) + sizeof(float) + sizeof(std::uint8_t);
+  std::size_t scratch_bytes() const;
+
+ private:
+  static constexpr std::uint8_t kFlowing = 1;  // I (4.5)
+  static constexpr std::uint8_t kQueued = 2;   // in pending_
+  static constexpr std::uint8_t kChanged = 4;  // changed in this sweep
+
+  // Outflow of one active cell towards its neighbours +x, -x, +y, -y.
+  struct CellFlux {
+    std::uint32_t cell;
+    std::array<std::int32_t, 4> out;
+  };
+
+  void wake(int cell);  // queue a cell and its neighbours for the next sweep
+  void sweep();
+  void compute_flux(std::uint32_t cell, CellFlux& flux) const;
+
+  GridSpec spec_;
+  SoilFlowParameters soil_;
+  FlowLaw law_;
+  std::vector<std::int64_t> quanta_;
+  std::vector<float> base_m_;
+  std::vector<std::uint8_t> flags_;
+  std::vector<std::uint32_t> pending_;  // cells to examine in the next sweep
+  std::vector<std::uint32_t> current_;  // cells examined in this sweep
+  std::vector<std::uint32_t> changed_;
+  std::vector<CellFlux> flux_;
+  MaterialLedger ledger_;
+  StepStats last_step_;
+  std::uint64_t shuffle_seed_ = 0;
+  std::uint64_t sweep_count_ = 0;
+};
+
+}  // namespace skidsim::terrain

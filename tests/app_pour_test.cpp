@@ -1,0 +1,112 @@
+// End to end: the skidsim command runs the pour job and writes a complete run
+// directory; bad input gives a clear message and a non-zero exit.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "io/heightmap.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string output;
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(SKIDSIM_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (pipe && std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pipe ? ::pclose(pipe) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+TEST(SkidsimPour, WritesARunDirectory) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_pour_e2e";
+  fs::remove_all(dir);
+  const Result r = run("pour --out " + dir.string() + " --site-m 3 --cell-m 0.05 --pour-s 3 --rate-kg-s 100 --settle-s 20");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  EXPECT_TRUE(summary["result"]["ledger_balanced"].get<bool>());
+  EXPECT_TRUE(summary["result"]["at_rest"].get<bool>());
+  EXPECT_NEAR(summary["pour"]["poured_kg"].get<double>(), 300.0, 0.01);
+  EXPECT_NEAR(summary["result"]["material_in_cells_kg"].get<double>(), summary["pour"]["poured_kg"].get<double>(), 1e-6);
+  // A 300 kg pile of dry sand stands at about the stop angle.
+  EXPECT_NEAR(summary["result"]["pile_flank_slope_deg"].get<double>(), summary["soil"]["stop_angle_deg"].get<double>(), 2.0);
+  const skidsim::io::Heightmap surface = skidsim::io::read_heightmap((dir / "terrain_surface.json").string());
+  EXPECT_EQ(surface.nx, 60);
+  EXPECT_EQ(surface.quantity, "surface");
+  EXPECT_NEAR(*std::max_element(surface.height_m.begin(), surface.height_m.end()),
+              summary["result"]["pile_apex_m"].get<double>(), 1e-3);
+  EXPECT_TRUE(fs::exists(dir / "terrain_material.png"));
+  fs::remove_all(dir);
+}
+
+TEST(SkidsimPour, SameJobTwiceGivesIdenticalTerrain) {
+  const fs::path a = fs::temp_directory_path() / "skidsim_pour_det_a";
+  const fs::path b = fs::temp_directory_path() / "skidsim_pour_det_b";
+  for (const auto& d : {a, b}) {
+    fs::remove_all(d);
+    ASSERT_EQ(run("pour --out " + d.string() + " --site-m 2 --pour-s 2 --settle-s 5").exit_code, 0);
+  }
+  const auto bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(bytes(a / "terrain_material.png"), bytes(b / "terrain_material.png"));
+  EXPECT_EQ(bytes(a / "terrain_material.json"), bytes(b / "terrain_material.json"));
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
+TEST(SkidsimPour, BadInputIsReportedWithANonZeroExit) {
+  Result r = run("pour --soil moon_dust --out /tmp/skidsim_never");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("moon_dust"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("dry_sand"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists("/tmp/skidsim_never/summary.json"));
+
+  r = run("pour --cell-m -1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("cell-m"), std::string::npos) << r.output;
+
+  // Cells so small the avalanche sweep would need too many sub-steps.
+  r = run("pour --cell-m 0.001 --site-m 0.1 --out /tmp/skidsim_never");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("sub-steps"), std::string::npos) << r.output;
+
+  const fs::path bad = fs::temp_directory_path() / "skidsim_bad_table.xml";
+  std::ofstream(bad) << "<soils>\n  <soil id=\"x\">\n    <flow bulk_density_kg_m3=\"-5\"/>\n  </soil>\n</soils>\n";
+  r = run("pour --soil-table " + bad.string() + " --out /tmp/skidsim_never");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find(bad.string() + ":2"), std::string::npos) << r.output;
+  fs::remove(bad);
+}
+
+TEST(SkidsimCommand, HelpListsTheSubcommands) {
+  const Result r = run("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* sub : {"pour", "bench", "soils"}) EXPECT_NE(r.output.find(sub), std::string::npos) << r.output;
+}
+
+TEST(SkidsimCommand, BenchRunsAndSpeaksJson) {
+  const Result r = run("bench --json --filter 'BM_AllActiveSweep/30$' --min-time 0.01");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto start = r.output.find('{');
+  ASSERT_NE(start, std::string::npos) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output.substr(start));
+  ASSERT_EQ(j["benchmarks"].size(), 1u);
+  EXPECT_GT(j["benchmarks"][0]["per_cell"].get<double>(), 0.0);
+}
+
+}  // namespace

@@ -1,0 +1,67 @@
+// The soil table: the shipped file loads, and bad files are reported with
+// file, line, element and attribute.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/atomic_file.h"
+#include "io/soil_table.h"
+
+namespace skidsim::io {
+namespace {
+
+TEST(SoilTable, ShippedTableLoadsAndIsValid) {
+  const SoilTable table = load_soil_table(default_soil_table_path());
+  ASSERT_TRUE(table.count("dry_sand"));
+  const SoilRecord& sand = table.at("dry_sand");
+  EXPECT_GE(sand.flow.repose_angle_deg, 30.0);  // design notes: 30-34 deg
+  EXPECT_LE(sand.flow.repose_angle_deg, 34.0);
+  EXPECT_DOUBLE_EQ(sand.terramechanics.n, 1.1);
+  EXPECT_DOUBLE_EQ(sand.terramechanics.k_phi_kN_per_m_n2, 1528.43);
+  EXPECT_EQ(table.size(), 6u);
+  for (const auto& [id, rec] : table) EXPECT_NO_THROW(terrain::validate(rec.flow)) << id;
+}
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const auto p = std::filesystem::temp_directory_path() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+void expect_error(const std::string& xml, const std::vector<std::string>& words) {
+  const std::string path = write_temp("skidsim_bad_soils.xml", xml);
+  try {
+    load_soil_table(path);
+    FAIL() << "expected an InputError for:\n" << xml;
+  } catch (const InputError& e) {
+    for (const auto& w : words) EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+const char* kFlow =
+    "<flow bulk_density_kg_m3=\"1600\" repose_angle_deg=\"33\" stop_angle_deg=\"30\" rolling_speed_m_per_s=\"1\" "
+    "rolling_layer_m=\"0.3\" min_flow_layer_m=\"0.005\"/>";
+const char* kTm = "<terramechanics n=\"1.1\" k_c=\"0.99\" k_phi=\"1528\" cohesion_kPa=\"1\" friction_angle_deg=\"28\" K_m=\"0.025\"/>";
+
+TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
+  expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + "\n</soil>\n</soils>\n",
+               {"skidsim_bad_soils.xml:2", "<soil>", "terramechanics"});
+  std::string flow = kFlow;
+  flow.replace(flow.find("\"33\""), 4, "\"steep\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n",
+               {":3:", "<flow>", "repose_angle_deg", "expected a number"});
+  flow = kFlow;
+  flow.replace(flow.find("\"30\""), 4, "\"40\"");  // stop angle above repose
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "stop_angle_deg"});
+  expect_error("<soils>\n<soil id=\"a\" colour=\"red\">\n" + std::string(kFlow) + kTm + "</soil>\n</soils>\n",
+               {":2:", "unknown attribute 'colour'"});
+  expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + kTm + "</soil>\n<soil id=\"a\">\n" + kFlow + kTm +
+                   "</soil>\n</soils>\n",
+               {":4:", "duplicate soil id 'a'"});
+  expect_error("<soils><soil id=\"a\">", {"skidsim_bad_soils.xml"});  // not well-formed
+}
+
+}  // namespace
+}  // namespace skidsim::io
