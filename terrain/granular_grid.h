@@ -83,6 +83,10 @@ class GranularGrid {
   double surface_m(int i, int j) const { return base_m(i, j) + material_m(i, j); }
   std::int64_t material_quanta(int i, int j) const { return quanta_[index(i, j)]; }
   bool flowing(int i, int j) const { return (flags_[index(i, j)] & kFlowing) != 0; }
+  // tan of the steepest slope down which cell (i, j) could send material: the
+  // quantity the sweep compares with tan(alpha) or tan(alpha_I). Zero for an
+  // empty cell.
+  double downhill_slope_tan(int i, int j) const;
 
   double quantum_volume_m3() const { return kHeightQuantumM * spec_.cell_size_m * spec_.cell_size_m; }
   double quantum_mass_kg() const { return quantum_volume_m3() * soil_.bulk_density_kg_m3; }
@@ -136,6 +140,13 @@ class GranularGrid {
 
   void wake(int cell);  // queue a cell and its neighbours for the next sweep
   void sweep();
+  // Per face of a cell (+x, -x, +y, -y): the drop to the neighbour across it
+  // (m, > 0 downhill) and the slope magnitude at the face.
+  struct FaceSlopes {
+    double drop[4];
+    double tan_beta[4];
+  };
+  FaceSlopes face_slopes(std::uint32_t cell) const;
   void compute_flux(std::uint32_t cell, CellFlux& flux) const;
 
   GridSpec spec_;

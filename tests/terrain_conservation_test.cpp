@@ -84,7 +84,7 @@ void collapse_column(double cell_m) {
     highest = now;
   }
   ASSERT_TRUE(g.at_rest());
-  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + 1e-9);
+  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + testing::kRestSlopeToleranceDeg);
   // Smooth: along each axis the material never rises moving away from the
   // centre (no checkerboard, no ripples).
   for (int k = 1; c + k < n; ++k) {
@@ -112,7 +112,7 @@ TEST(Edges, ClosedContainerKeepsEverything) {
   // The container filled up: material lies against every wall.
   EXPECT_GT(g.material_m(19, 19), 0.0);
   EXPECT_GT(g.material_m(0, 19), 0.0);
-  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + 1e-9);
+  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + testing::kRestSlopeToleranceDeg);
 }
 
 TEST(Edges, OpenEdgeDrainsToTheReposeSlope) {
@@ -130,7 +130,7 @@ TEST(Edges, OpenEdgeDrainsToTheReposeSlope) {
   // slumped to a slope no steeper than the repose angle.
   EXPECT_EQ(g.material_quanta(59, 30), std::llround(0.4 / kHeightQuantumM));
   EXPECT_LT(g.material_m(0, 30), 0.1);
-  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + 1e-9);
+  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + testing::kRestSlopeToleranceDeg);
 }
 
 TEST(Base, PileOnAGentleSlopeCreepsDownhillOnly) {
@@ -151,7 +151,7 @@ TEST(Base, PileOnAGentleSlopeCreepsDownhillOnly) {
   while (g.material_m(c + up + 1, c) > 1e-3) ++up;
   while (g.material_m(c - down - 1, c) > 1e-3) ++down;
   EXPECT_GT(down, up) << "the pile must reach further downhill";
-  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + 1e-9);
+  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + testing::kRestSlopeToleranceDeg);
   EXPECT_TRUE(g.ledger().balanced());
 }
 
@@ -170,7 +170,7 @@ TEST(Base, MaterialOnASteepBaseSlidesToTheFoot) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) (i < n / 2 ? bottom_half : top_half) += g.material_m(i, j);
   EXPECT_LT(top_half, 0.05 * bottom_half);
-  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + 1e-9);
+  EXPECT_LE(testing::max_slope_deg(g), g.soil().repose_angle_deg + testing::kRestSlopeToleranceDeg);
   EXPECT_TRUE(g.ledger().balanced());
 }
 

@@ -34,7 +34,9 @@ TEST_P(PointPour, ConeHasReposeSlopeAndIsRound) {
   }
   ASSERT_GE(testing::settle(g, 200000), 0) << "the pile did not come to rest";
 
-  const PileMetrics m = measure_pile(g, c, c, 0.002);
+  // The foot of the pile: where 1 cm of material remains (a survey's
+  // resolution; the last millimetres of the concave foot run out unevenly).
+  const PileMetrics m = measure_pile(g, c, c, 0.01);
   RecordProperty("flank_slope_deg", std::to_string(m.flank_slope_deg));
   RecordProperty("radius_axes_m", std::to_string(m.radius_axes_m));
   RecordProperty("radius_diagonals_m", std::to_string(m.radius_diagonals_m));
@@ -49,7 +51,7 @@ TEST_P(PointPour, ConeHasReposeSlopeAndIsRound) {
   // Round, not a square or diamond pyramid: radii within 3 %.
   EXPECT_NEAR(m.radius_diagonals_m / m.radius_axes_m, 1.0, 0.03);
   // At rest, no slope is steeper than the static repose angle.
-  EXPECT_LE(testing::max_slope_deg(g), soil.repose_angle_deg + 1e-9);
+  EXPECT_LE(testing::max_slope_deg(g), soil.repose_angle_deg + testing::kRestSlopeToleranceDeg);
   EXPECT_TRUE(g.ledger().balanced());
 }
 

@@ -29,21 +29,18 @@ inline long settle(GranularGrid& g, long max_steps) {
   return g.at_rest() ? max_steps : -1;
 }
 
-// Largest slope angle (deg) anywhere on the surface, by the automaton's own
-// isotropic slope measure (steepest downhill difference on each axis).
+// At rest a face can lean past the repose angle only where its drop is too
+// small for any flow to round to a whole quantum (sub-micrometre drops beside
+// a steep tangential slope, e.g. along a wall): 0.1 deg covers it.
+inline constexpr double kRestSlopeToleranceDeg = 0.1;
+
+// Largest slope angle (deg) down which any cell could send material, by the
+// automaton's own slope measure.
 inline double max_slope_deg(const GranularGrid& g) {
   double worst = 0.0;
-  for (int j = 0; j < g.ny(); ++j) {
-    for (int i = 0; i < g.nx(); ++i) {
-      if (g.material_quanta(i, j) == 0) continue;
-      const double h = g.surface_m(i, j);
-      const auto drop = [&](int a, int b) { return g.contains(a, b) ? std::max(0.0, h - g.surface_m(a, b)) : 0.0; };
-      const double sx = std::max(drop(i + 1, j), drop(i - 1, j)) / g.cell_size_m();
-      const double sy = std::max(drop(i, j + 1), drop(i, j - 1)) / g.cell_size_m();
-      worst = std::max(worst, std::atan(std::hypot(sx, sy)) * 180.0 / kPi);
-    }
-  }
-  return worst;
+  for (int j = 0; j < g.ny(); ++j)
+    for (int i = 0; i < g.nx(); ++i) worst = std::max(worst, g.downhill_slope_tan(i, j));
+  return std::atan(worst) * 180.0 / kPi;
 }
 
 }  // namespace skidsim::terrain::testing
