@@ -32,6 +32,28 @@ std::uint64_t split_mix(std::uint64_t& state) {
   return z ^ (z >> 31);
 }
 
+// (4.16) as a finite-volume flux through one face: if the face is downhill
+// and its slope tan(beta) exceeds the threshold, the normal component
+// (drop/d)/tan(beta) of the flux z+(beta) (tan beta - tan alpha_I) along the
+// gradient, with the transport floor of h_stop; in quanta, plus 0.5 for the
+// rounding. Each face flux is at most z+ drop / d, which is what the
+// stability bound rests on. Branch-free, so that loops over cells vectorise;
+// the same arithmetic in every caller keeps the sparse and dense sweeps
+// bit-identical.
+inline double face_flux_quanta(double drop_m, double tangential_m, double inv_d, double threshold2,
+                               const FlowLaw& law) {
+  const double normal = drop_m * inv_d, tangential = tangential_m * inv_d;
+  const double tan2 = normal * normal + tangential * tangential;
+  const double tan_beta = std::sqrt(tan2);
+  const double excess = tan_beta - law.tan_stop;
+  const double flow = law.z_plus_per_sweep_m * std::max(excess, law.transport_excess);
+  // One face carries at most 2 m per sweep; a higher cliff just takes more
+  // sweeps (a smaller flux keeps the bound).
+  const double quanta = std::min(flow * (normal / tan_beta) * (1.0 / kHeightQuantumM), 2.0e9);
+  const bool flows = (drop_m > 0.0) & (tan2 > threshold2);
+  return flows ? quanta + 0.5 : 0.0;
+}
+
 }  // namespace
 
 GranularGrid::GranularGrid(const GridSpec& spec, const SoilFlowParameters& soil,
@@ -48,6 +70,7 @@ GranularGrid::GranularGrid(const GridSpec& spec, const SoilFlowParameters& soil,
   const std::size_t n = static_cast<std::size_t>(spec.nx) * spec.ny;
   quanta_.assign(n, 0);
   base_m_.assign(n, 0.0f);
+  surface_m_.assign(n, 0.0);
   flags_.assign(n, 0);
   for (int j = 0; j < spec.ny; ++j) {
     for (int i = 0; i < spec.nx; ++i) {
@@ -75,27 +98,30 @@ MaterialLedger GranularGrid::ledger() const {
 
 std::size_t GranularGrid::scratch_bytes() const {
   return pending_.capacity() * sizeof(std::uint32_t) + current_.capacity() * sizeof(std::uint32_t) +
-         changed_.capacity() * sizeof(std::uint32_t) + flux_.capacity() * sizeof(CellFlux);
+         changed_.capacity() * sizeof(std::uint32_t) + flux_.capacity() * sizeof(CellFlux) +
+         dense_out_.capacity() * sizeof(dense_out_[0]);
 }
 
 void GranularGrid::wake(int cell) {
-  const auto queue = [this](int c) {
-    if (!(flags_[c] & kQueued)) {
-      flags_[c] |= kQueued;
-      pending_.push_back(static_cast<std::uint32_t>(c));
-    }
-  };
+  // The 3 x 3 block: a cell's face slopes read its diagonal neighbours too.
   const std::uint8_t f = flags_[cell];
-  queue(cell);
-  if (!(f & kOnEdgeBit[0])) queue(cell + 1);
-  if (!(f & kOnEdgeBit[1])) queue(cell - 1);
-  if (!(f & kOnEdgeBit[2])) queue(cell + spec_.nx);
-  if (!(f & kOnEdgeBit[3])) queue(cell - spec_.nx);
+  const int row_lo = (f & kOnEdgeBit[3]) ? 0 : -spec_.nx, row_hi = (f & kOnEdgeBit[2]) ? 0 : spec_.nx;
+  const int col_lo = (f & kOnEdgeBit[1]) ? 0 : -1, col_hi = (f & kOnEdgeBit[0]) ? 0 : 1;
+  for (int row = row_lo; row <= row_hi; row += spec_.nx) {
+    for (int col = col_lo; col <= col_hi; ++col) {
+      const int c = cell + row + col;
+      if (!(flags_[c] & kQueued)) {
+        flags_[c] |= kQueued;
+        pending_.push_back(static_cast<std::uint32_t>(c));
+      }
+    }
+  }
 }
 
 void GranularGrid::set_base_m(int i, int j, double base_m) {
   if (!contains(i, j) || !std::isfinite(base_m)) throw std::invalid_argument("set_base_m: bad cell or value");
   base_m_[index(i, j)] = static_cast<float>(base_m);
+  refresh_surface(index(i, j));
   wake(index(i, j));
 }
 
@@ -106,6 +132,7 @@ void GranularGrid::set_material_m(int i, int j, double material_m) {
   const std::int64_t q = to_quanta(material_m);
   ledger_.initial += q - quanta_[c];
   quanta_[c] = q;
+  refresh_surface(c);
   wake(c);
 }
 
@@ -119,6 +146,7 @@ double GranularGrid::add_material_m3(int i, int j, double volume_m3) {
   ledger_.added += q;
   // Poured material arrives moving: the cell flows (4.5) until it settles.
   flags_[c] |= kFlowing;
+  refresh_surface(c);
   wake(c);
   return q * quantum_volume_m3();
 }
@@ -131,92 +159,95 @@ double GranularGrid::remove_material_m3(int i, int j, double volume_m3) {
   if (q == 0) return 0.0;
   quanta_[c] -= q;
   ledger_.removed += q;
+  refresh_surface(c);
   wake(c);
   return q * quantum_volume_m3();
 }
 
-GranularGrid::FaceSlopes GranularGrid::face_slopes(std::uint32_t cell) const {
+GranularGrid::FaceGeometry GranularGrid::face_geometry(std::uint32_t cell) const {
   const std::uint8_t f = flags_[cell];
   const int nx = spec_.nx;
-  const auto height = [this](std::uint32_t c) { return base_m_[c] + quanta_[c] * kHeightQuantumM; };
-  const double base = base_m_[cell];
-  const double here = height(cell);
+  const double* h = surface_m_.data();
+  const double here = h[cell];
   const bool xp = !(f & kOnEdgeBit[0]), xm = !(f & kOnEdgeBit[1]);
   const bool yp = !(f & kOnEdgeBit[2]), ym = !(f & kOnEdgeBit[3]);
   // The 3 x 3 neighbourhood; outside the grid a cell repeats its neighbour
   // inside (zero gradient across the edge) for the tangential differences.
-  const double e = xp ? height(cell + 1) : here, w = xm ? height(cell - 1) : here;
-  const double n = yp ? height(cell + nx) : here, s = ym ? height(cell - nx) : here;
-  const double ne = xp && yp ? height(cell + 1 + nx) : (xp ? e : n);
-  const double nw = xm && yp ? height(cell - 1 + nx) : (xm ? w : n);
-  const double se = xp && ym ? height(cell + 1 - nx) : (xp ? e : s);
-  const double sw = xm && ym ? height(cell - 1 - nx) : (xm ? w : s);
-
-  // The surface beyond each face: the neighbour; beyond an open edge the
-  // imaginary neighbour sits at this cell's base (material falls off); a
-  // closed edge is a wall (no drop).
-  const double across[4] = {e, w, n, s};
-  FaceSlopes out;
-  for (int d = 0; d < 4; ++d) {
-    double below = across[d];
-    if (f & kOnEdgeBit[d]) below = spec_.edges[kEdgeOfDirection[d]] == EdgeKind::kOpen ? base : here;
-    out.drop[d] = here - below;
-  }
-  // The gradient at each face centre: the normal part from the drop across
-  // it, the tangential part from the four cells beside the face. Both are
-  // centred on the face, so the slope magnitude is second-order accurate in
-  // every direction: on a cone's diagonals a one-sided estimate would add
-  // about 0.35 d/r to the slope and square the cone off.
-  const double inv_d = 1.0 / spec_.cell_size_m;
-  const double tangential[4] = {(n + ne - s - se) * 0.25 * inv_d, (n + nw - s - sw) * 0.25 * inv_d,
-                                (e + ne - w - nw) * 0.25 * inv_d, (e + se - w - sw) * 0.25 * inv_d};
-  for (int d = 0; d < 4; ++d) {
-    const double normal = out.drop[d] * inv_d;
-    out.tan_beta[d] = out.drop[d] > 0.0 ? std::sqrt(normal * normal + tangential[d] * tangential[d]) : 0.0;
-  }
-  return out;
+  const double e = xp ? h[cell + 1] : here, w = xm ? h[cell - 1] : here;
+  const double n = yp ? h[cell + nx] : here, s = ym ? h[cell - nx] : here;
+  const double ne = xp && yp ? h[cell + 1 + nx] : (xp ? e : n);
+  const double nw = xm && yp ? h[cell - 1 + nx] : (xm ? w : n);
+  const double se = xp && ym ? h[cell + 1 - nx] : (xp ? e : s);
+  const double sw = xm && ym ? h[cell - 1 - nx] : (xm ? w : s);
+  FaceGeometry g = face_geometry_from(here, e, w, n, s, ne, nw, se, sw);
+  // Beyond an open edge the imaginary neighbour sits at this cell's base
+  // (material falls off); a closed edge is a wall (no drop).
+  for (int d = 0; d < 4; ++d)
+    if (f & kOnEdgeBit[d])
+      g.drop[d] = spec_.edges[kEdgeOfDirection[d]] == EdgeKind::kOpen ? here - base_m_[cell] : 0.0;
+  return g;
 }
 
 double GranularGrid::downhill_slope_tan(int i, int j) const {
   const auto cell = static_cast<std::uint32_t>(index(i, j));
   if (quanta_[cell] <= 0) return 0.0;
-  const FaceSlopes fs = face_slopes(cell);
-  return std::max(std::max(fs.tan_beta[0], fs.tan_beta[1]), std::max(fs.tan_beta[2], fs.tan_beta[3]));
+  const FaceGeometry g = face_geometry(cell);
+  const double inv_d = 1.0 / spec_.cell_size_m;
+  double steepest = 0.0;
+  for (int d = 0; d < 4; ++d) {
+    if (g.drop[d] <= 0.0) continue;
+    const double normal = g.drop[d] * inv_d, tangential = g.tangential[d] * inv_d;
+    steepest = std::max(steepest, std::sqrt(normal * normal + tangential * tangential));
+  }
+  return steepest;
 }
 
-void GranularGrid::compute_flux(std::uint32_t cell, CellFlux& flux) const {
-  flux.cell = cell;
-  flux.out = {0, 0, 0, 0};
-  const std::int64_t available = quanta_[cell];
-  if (available <= 0) return;
-  const FaceSlopes fs = face_slopes(cell);
+void GranularGrid::compute_flux(std::uint32_t cell, const FaceGeometry& g, CellFlux& flux) const {
   const double threshold = (flags_[cell] & kFlowing) ? law_.tan_stop : law_.tan_repose;
-
-  // (4.16) as a finite-volume flux: through each downhill face whose slope
-  // exceeds the threshold, the normal component of the flux vector
-  // z+(beta) (tan beta - tan alpha_I) along the gradient. Each face flux is at
-  // most z+ drop / d, which is what the stability bound rests on.
   const double inv_d = 1.0 / spec_.cell_size_m;
+  double q[4];
+  for (int d = 0; d < 4; ++d) q[d] = face_flux_quanta(g.drop[d], g.tangential[d], inv_d, threshold * threshold, law_);
+  flux.cell = cell;
+  flux.out = clamp_to_available(q, quanta_[cell]);
+}
+
+std::array<std::int32_t, 4> GranularGrid::clamp_to_available(const double q[4], std::int64_t available) {
   std::int64_t out[4];
   std::int64_t total = 0;
   for (int d = 0; d < 4; ++d) {
-    out[d] = 0;
-    if (fs.tan_beta[d] <= threshold) continue;
-    double q = law_.moved_height_m(fs.tan_beta[d]) * (fs.drop[d] * inv_d / fs.tan_beta[d]) / kHeightQuantumM;
-    // One face carries at most 2 m per sweep; a higher cliff just takes more
-    // sweeps (a smaller flux keeps the bound).
-    q = q < 2.0e9 ? q : 2.0e9;
-    out[d] = static_cast<std::int64_t>(q + 0.5);
+    out[d] = static_cast<std::int64_t>(q[d]);
     total += out[d];
   }
   if (total > available) {
     // Never below the base: scale every outflow of this cell by one factor.
-    for (auto& o : out) o = static_cast<std::int64_t>((static_cast<Int128>(o) * available) / total);
+    const std::int64_t keep = available > 0 ? available : 0;
+    for (auto& o : out) o = static_cast<std::int64_t>((static_cast<Int128>(o) * keep) / total);
   }
-  for (int d = 0; d < 4; ++d) flux.out[d] = static_cast<std::int32_t>(out[d]);
+  return {static_cast<std::int32_t>(out[0]), static_cast<std::int32_t>(out[1]), static_cast<std::int32_t>(out[2]),
+          static_cast<std::int32_t>(out[3])};
 }
 
 void GranularGrid::sweep() {
+  const bool dense = mode_ == SweepMode::kDense ||
+                     (mode_ == SweepMode::kAuto && active_cell_count() * 8 > quanta_.size());
+  ++sweep_count_;
+  if (dense) {
+    sweep_dense();
+    pending_all_ = mode_ != SweepMode::kSparse && changed_.size() * 8 > quanta_.size();
+    if (pending_all_) return;  // the next sweep visits every cell anyway
+  } else {
+    sweep_sparse();
+  }
+  // Flowing flags (4.5) and the next active set: only cells whose 3 x 3
+  // neighbourhood changed can become unstable, so a terrain at rest is empty.
+  for (std::uint32_t c : changed_) {
+    flags_[c] = static_cast<std::uint8_t>((flags_[c] & ~kChanged) | kFlowing);
+    refresh_surface(static_cast<int>(c));
+    wake(static_cast<int>(c));
+  }
+}
+
+void GranularGrid::sweep_sparse() {
   current_.swap(pending_);
   pending_.clear();
   for (std::uint32_t c : current_) flags_[c] &= static_cast<std::uint8_t>(~kQueued);
@@ -225,11 +256,10 @@ void GranularGrid::sweep() {
     for (std::size_t k = current_.size(); k > 1; --k)
       std::swap(current_[k - 1], current_[split_mix(state) % k]);
   }
-  ++sweep_count_;
 
   // Phase 1: every flux from the state at the start of the sweep.
   flux_.resize(current_.size());
-  for (std::size_t k = 0; k < current_.size(); ++k) compute_flux(current_[k], flux_[k]);
+  for (std::size_t k = 0; k < current_.size(); ++k) compute_flux(current_[k], face_geometry(current_[k]), flux_[k]);
 
   // Phase 2: apply. Integer sums commute, so the visiting order cannot change
   // the result, and what leaves one cell arrives in another or off-site.
@@ -242,8 +272,7 @@ void GranularGrid::sweep() {
   };
   changed_.clear();
   for (const CellFlux& flux : flux_) {
-    const std::int64_t total =
-        std::int64_t{flux.out[0]} + flux.out[1] + flux.out[2] + flux.out[3];
+    const std::int64_t total = std::int64_t{flux.out[0]} + flux.out[1] + flux.out[2] + flux.out[3];
     ++last_step_.cells_checked;
     if (total == 0) continue;
     ++last_step_.cells_toppled;
@@ -262,20 +291,132 @@ void GranularGrid::sweep() {
       }
     }
   }
-
-  // Phase 3: flowing flags (4.5) and the next active set. Only cells whose
-  // neighbourhood changed can become unstable, so a terrain at rest is empty.
+  // Every flowing cell was changed in the previous sweep and so is in this
+  // one's active set: clearing I here covers all cells that stopped.
   for (std::uint32_t c : current_) flags_[c] &= static_cast<std::uint8_t>(~kFlowing);
-  for (std::uint32_t c : changed_) {
-    flags_[c] = static_cast<std::uint8_t>((flags_[c] & ~kChanged) | kFlowing);
-    wake(static_cast<int>(c));
+}
+
+void GranularGrid::sweep_dense() {
+  // The same sweep over every cell, row by row, with no lists. A cell outside
+  // the active set is stable with an unchanged neighbourhood, so its flux is
+  // exactly zero and the result is that of the sparse sweep.
+  for (std::uint32_t c : pending_) flags_[c] &= static_cast<std::uint8_t>(~kQueued);
+  pending_.clear();
+  pending_all_ = false;
+  const auto n = static_cast<std::uint32_t>(quanta_.size());
+  dense_out_.resize(n);
+  dense_fluxes();
+
+  // Gather: what a cell keeps plus what its four neighbours send it. Phase 1
+  // is over, so flags and surfaces are updated in place.
+  const int nx = spec_.nx, ny = spec_.ny;
+  changed_.resize(n);
+  std::size_t changed_count = 0;
+  const auto gather_edge_cell = [&](std::uint32_t c) {
+    const auto& out = dense_out_[c];
+    const std::int64_t sent = std::int64_t{out[0]} + out[1] + out[2] + out[3];
+    const std::uint8_t f = flags_[c];
+    std::int64_t received = 0;
+    if (!(f & kOnEdgeBit[1])) received += dense_out_[c - 1][0];
+    if (!(f & kOnEdgeBit[0])) received += dense_out_[c + 1][1];
+    if (!(f & kOnEdgeBit[3])) received += dense_out_[c - nx][2];
+    if (!(f & kOnEdgeBit[2])) received += dense_out_[c + nx][3];
+    for (int d = 0; d < 4; ++d)
+      if (f & kOnEdgeBit[d]) ledger_.off_site[kEdgeOfDirection[d]] += out[d];
+    last_step_.cells_toppled += sent != 0;
+    last_step_.moved_quanta += sent;
+    const bool changed = (sent != 0) | (received != 0);
+    quanta_[c] += received - sent;
+    refresh_surface(static_cast<int>(c));
+    flags_[c] = static_cast<std::uint8_t>((f & ~kFlowing) | (changed ? kFlowing : 0));
+    changed_[changed_count] = c;
+    changed_count += changed;
+  };
+  std::int64_t toppled = 0, moved = 0;
+  for (int j = 0; j < ny; ++j) {
+    const auto row = static_cast<std::uint32_t>(j * nx);
+    if (j == 0 || j == ny - 1 || nx < 3) {
+      for (int i = 0; i < nx; ++i) gather_edge_cell(row + static_cast<std::uint32_t>(i));
+      continue;
+    }
+    gather_edge_cell(row);
+    // Interior cells: no edges to test, no branches; plain pointers so the
+    // compiler need not reload the vectors' storage after every store.
+    const std::array<std::int32_t, 4>* __restrict out = dense_out_.data();
+    std::int64_t* __restrict quanta = quanta_.data();
+    double* __restrict surface = surface_m_.data();
+    const float* __restrict base = base_m_.data();
+    std::uint8_t* __restrict flags = flags_.data();
+    std::uint32_t* __restrict changed_list = changed_.data();
+    for (std::uint32_t c = row + 1; c < row + static_cast<std::uint32_t>(nx) - 1; ++c) {
+      const std::int64_t sent = std::int64_t{out[c][0]} + out[c][1] + out[c][2] + out[c][3];
+      const std::int64_t received =
+          std::int64_t{out[c - 1][0]} + out[c + 1][1] + out[c - nx][2] + out[c + nx][3];
+      toppled += sent != 0;
+      moved += sent;
+      const bool changed = (sent != 0) | (received != 0);
+      const std::int64_t now = quanta[c] + received - sent;
+      quanta[c] = now;
+      surface[c] = base[c] + now * kHeightQuantumM;
+      flags[c] = static_cast<std::uint8_t>((flags[c] & ~kFlowing) | (changed ? kFlowing : 0));
+      changed_list[changed_count] = c;
+      changed_count += changed;
+    }
+    gather_edge_cell(row + static_cast<std::uint32_t>(nx) - 1);
+  }
+  last_step_.cells_toppled += toppled;
+  last_step_.moved_quanta += moved;
+  changed_.resize(changed_count);
+  last_step_.cells_checked += n;
+}
+
+// Phase 1 of the dense sweep. Inner rows go through a loop over cells that
+// the compiler vectorises (cloned for AVX2 where the processor has it); the
+// arithmetic per face is that of compute_flux, so results are bit-identical
+// (IEEE sqrt and division, no fused multiply-add: -ffp-contract=off).
+__attribute__((target_clones("avx2", "default"))) void GranularGrid::dense_fluxes() {
+  const int nx = spec_.nx, ny = spec_.ny;
+  const double* h = surface_m_.data();
+  const std::uint8_t* flags = flags_.data();
+  const double inv_d = 1.0 / spec_.cell_size_m;
+  const double stop2 = law_.tan_stop * law_.tan_stop, repose2 = law_.tan_repose * law_.tan_repose;
+  const FlowLaw law = law_;
+  row_q_.resize(static_cast<std::size_t>(4) * nx);
+  double* q = row_q_.data();
+  CellFlux flux;
+  for (int j = 0; j < ny; ++j) {
+    const int row = j * nx;
+    if (j == 0 || j == ny - 1 || nx < 3) {
+      for (int i = 0; i < nx; ++i) {
+        compute_flux(static_cast<std::uint32_t>(row + i), face_geometry(static_cast<std::uint32_t>(row + i)), flux);
+        dense_out_[static_cast<std::size_t>(row + i)] = flux.out;
+      }
+      continue;
+    }
+    for (int i = 1; i < nx - 1; ++i) {
+      const int c = row + i;
+      const FaceGeometry g = face_geometry_from(h[c], h[c + 1], h[c - 1], h[c + nx], h[c - nx], h[c + 1 + nx],
+                                                h[c - 1 + nx], h[c + 1 - nx], h[c - 1 - nx]);
+      const double threshold2 = (flags[c] & kFlowing) ? stop2 : repose2;
+      q[4 * i + 0] = face_flux_quanta(g.drop[0], g.tangential[0], inv_d, threshold2, law);
+      q[4 * i + 1] = face_flux_quanta(g.drop[1], g.tangential[1], inv_d, threshold2, law);
+      q[4 * i + 2] = face_flux_quanta(g.drop[2], g.tangential[2], inv_d, threshold2, law);
+      q[4 * i + 3] = face_flux_quanta(g.drop[3], g.tangential[3], inv_d, threshold2, law);
+    }
+    std::array<std::int32_t, 4>* __restrict out = dense_out_.data() + row;
+    const std::int64_t* __restrict available = quanta_.data() + row;
+    for (int i = 1; i < nx - 1; ++i) out[i] = clamp_to_available(q + 4 * i, available[i]);
+    for (int i : {0, nx - 1}) {
+      compute_flux(static_cast<std::uint32_t>(row + i), face_geometry(static_cast<std::uint32_t>(row + i)), flux);
+      dense_out_[static_cast<std::size_t>(row + i)] = flux.out;
+    }
   }
 }
 
 void GranularGrid::step() {
   last_step_ = StepStats{};
   last_step_.substeps = law_.substeps;
-  for (int s = 0; s < law_.substeps && !pending_.empty(); ++s) sweep();
+  for (int s = 0; s < law_.substeps && !at_rest(); ++s) sweep();
 }
 
 }  // namespace skidsim::terrain

@@ -80,7 +80,7 @@ class GranularGrid {
   // State (4.1.3): base B, material h, surface H = B + h, flowing flag I.
   double base_m(int i, int j) const { return base_m_[index(i, j)]; }
   double material_m(int i, int j) const { return quanta_[index(i, j)] * kHeightQuantumM; }
-  double surface_m(int i, int j) const { return base_m(i, j) + material_m(i, j); }
+  double surface_m(int i, int j) const { return surface_m_[index(i, j)]; }
   std::int64_t material_quanta(int i, int j) const { return quanta_[index(i, j)]; }
   bool flowing(int i, int j) const { return (flags_[index(i, j)] & kFlowing) != 0; }
   // tan of the steepest slope down which cell (i, j) could send material: the
@@ -114,17 +114,27 @@ class GranularGrid {
   void step();
   const StepStats& last_step() const { return last_step_; }
 
-  // Cells that the next sweep will examine. Zero for a terrain at rest.
-  std::size_t active_cell_count() const { return pending_.size(); }
-  bool at_rest() const { return pending_.empty(); }
+  // Cells that the next sweep must examine (cells whose 3 x 3 neighbourhood
+  // changed). Zero for a terrain at rest.
+  std::size_t active_cell_count() const { return pending_all_ ? quanta_.size() : pending_.size(); }
+  bool at_rest() const { return !pending_all_ && pending_.empty(); }
 
-  // Order-independence check: when non-zero, every sweep visits its active
-  // cells in an order shuffled with this seed. The result must not change.
+  // Order-independence check: when non-zero, every sparse sweep visits its
+  // active cells in an order shuffled with this seed. The result must not
+  // change.
   void set_sweep_shuffle_seed(std::uint64_t seed) { shuffle_seed_ = seed; }
 
-  // Bytes of per-cell state (excluding the active-set scratch).
+  // How a sweep visits cells. kAuto walks the active list while it is small
+  // and the whole grid, row by row, once more than 1/8 of the cells are
+  // active. Both give bit-identical results (tested); the others exist to
+  // test and benchmark that.
+  enum class SweepMode { kAuto, kSparse, kDense };
+  void set_sweep_mode(SweepMode mode) { mode_ = mode; }
+
+  // Bytes of per-cell state (excluding the sweep scratch): material quanta,
+  // base, the cached surface height and the flags.
   static constexpr std::size_t kStateBytesPerCell =
-      sizeof(std::int64_t) + sizeof(float) + sizeof(std::uint8_t);
+      sizeof(std::int64_t) + sizeof(float) + sizeof(double) + sizeof(std::uint8_t);
   std::size_t scratch_bytes() const;
 
  private:
@@ -138,27 +148,52 @@ class GranularGrid {
     std::array<std::int32_t, 4> out;
   };
 
-  void wake(int cell);  // queue a cell and its neighbours for the next sweep
+  void wake(int cell);  // queue a cell's 3 x 3 neighbourhood for the next sweep
+  void refresh_surface(int cell) { surface_m_[cell] = base_m_[cell] + quanta_[cell] * kHeightQuantumM; }
   void sweep();
+  void sweep_sparse();
+  void sweep_dense();
   // Per face of a cell (+x, -x, +y, -y): the drop to the neighbour across it
-  // (m, > 0 downhill) and the slope magnitude at the face.
-  struct FaceSlopes {
+  // (m, > 0 downhill) and the tangential height difference across the face
+  // (m per cell), both centred on the face.
+  struct FaceGeometry {
     double drop[4];
-    double tan_beta[4];
+    double tangential[4];
   };
-  FaceSlopes face_slopes(std::uint32_t cell) const;
-  void compute_flux(std::uint32_t cell, CellFlux& flux) const;
+  // From the 3 x 3 surface heights around a cell. The normal and tangential
+  // differences are both centred on the face, so the slope magnitude is
+  // second-order accurate in every direction: on a cone's diagonals a
+  // one-sided estimate adds about 0.35 d/r to the slope and squares the cone.
+  static FaceGeometry face_geometry_from(double here, double e, double w, double n, double s, double ne,
+                                         double nw, double se, double sw) {
+    return {{here - e, here - w, here - n, here - s},
+            {(n + ne - s - se) * 0.25, (n + nw - s - sw) * 0.25, (e + ne - w - nw) * 0.25,
+             (e + se - w - sw) * 0.25}};
+  }
+  FaceGeometry face_geometry(std::uint32_t cell) const;  // any cell, edges included
+  void compute_flux(std::uint32_t cell, const FaceGeometry& g, CellFlux& flux) const;
+  // Rounds a cell's four face fluxes (quanta + 0.5) and scales them down to
+  // what the cell holds.
+  static std::array<std::int32_t, 4> clamp_to_available(const double q[4], std::int64_t available);
+  void dense_fluxes();
 
   GridSpec spec_;
   SoilFlowParameters soil_;
   FlowLaw law_;
   std::vector<std::int64_t> quanta_;
   std::vector<float> base_m_;
+  std::vector<double> surface_m_;  // base + material, kept in step with both
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> pending_;  // cells to examine in the next sweep
   std::vector<std::uint32_t> current_;  // cells examined in this sweep
   std::vector<std::uint32_t> changed_;
-  std::vector<CellFlux> flux_;
+  std::vector<CellFlux> flux_;                   // sparse sweep: per active cell
+  std::vector<std::array<std::int32_t, 4>> dense_out_;  // dense sweep: per cell
+  std::vector<double> row_q_;                            // dense sweep: one row of face fluxes
+  SweepMode mode_ = SweepMode::kAuto;
+  // After a dense sweep that changed many cells the next sweep is dense too:
+  // the active set is then "every cell" and is not listed.
+  bool pending_all_ = false;
   MaterialLedger ledger_;
   StepStats last_step_;
   std::uint64_t shuffle_seed_ = 0;
