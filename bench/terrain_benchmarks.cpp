@@ -86,14 +86,16 @@ void BM_PourActiveSet(benchmark::State& state) {
     grid->step();
   };
   for (int s = 0; s < static_cast<int>(pour_s / kDt); ++s) pour_step();
-  double active = 0;
+  double examined = 0, moving = 0;
   std::int64_t steps = 0;
   for (auto _ : state) {
     pour_step();
-    active += static_cast<double>(grid->last_step().cells_checked);
+    examined += static_cast<double>(grid->last_step().cells_checked);
+    moving += static_cast<double>(grid->last_step().cells_toppled);
     ++steps;
   }
-  state.counters["active_cells"] = active / static_cast<double>(steps);
+  state.counters["examined"] = examined / static_cast<double>(steps);
+  state.counters["moving"] = moving / static_cast<double>(steps);
   state.counters["cone_radius_cells"] = [&] {
     int r = 0;
     while (n / 2 + r < n && grid->material_m(n / 2 + r, n / 2) > 0.0) ++r;
@@ -101,5 +103,40 @@ void BM_PourActiveSet(benchmark::State& state) {
   }();
 }
 BENCHMARK(BM_PourActiveSet)->Arg(1)->Arg(4)->Arg(16)->Arg(64)->Unit(benchmark::kMicrosecond)->Iterations(500);
+
+// The thesis's fig. 7.2 experiment: a cone just under the angle at which
+// avalanches stop, fed at its apex; each addition sets off an avalanche that
+// runs to rest. One iteration is one avalanche; the counters give the mean
+// and the largest number of cells moving material per step against the
+// cone's radius (in cells).
+void BM_ConeAvalancheActiveSet(benchmark::State& state) {
+  const int radius = static_cast<int>(state.range(0));
+  const int n = 2 * radius + 21;
+  auto grid = make_grid(n, EdgeKind::kClosed);
+  const double tan_stop = std::tan(grid->soil().stop_angle_deg * 3.14159265358979 / 180.0);
+  const int c = n / 2;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double r = std::hypot(i - c, j - c);
+      if (r < radius) grid->set_material_m(i, j, 0.99 * tan_stop * kCell * (radius - r));
+    }
+  while (!grid->at_rest()) grid->step();
+  const double drop_m3 = 0.02 * kCell * kCell;  // 2 cm of material on the apex cell
+  double steps = 0, checked = 0, largest = 0;
+  for (auto _ : state) {
+    grid->add_material_m3(c, c, drop_m3);
+    while (!grid->at_rest()) {
+      grid->step();
+      const auto moving = static_cast<double>(grid->last_step().cells_toppled);
+      largest = std::max(largest, moving);
+      checked += moving;
+      ++steps;
+    }
+  }
+  state.counters["mean_moving"] = checked / std::max(steps, 1.0);
+  state.counters["max_moving"] = largest;
+  state.counters["radius_cells"] = radius;
+}
+BENCHMARK(BM_ConeAvalancheActiveSet)->Arg(10)->Arg(20)->Arg(40)->Arg(80)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
