@@ -52,19 +52,51 @@ int run_pour_job(const PourJob& job) {
   spec.cell_size_m = job.cell_size_m;
   spec.origin_m = {0.5 * job.cell_size_m, 0.5 * job.cell_size_m};
   spec.edges.fill(job.open_edges ? terrain::EdgeKind::kOpen : terrain::EdgeKind::kClosed);
+
+  // Initial terrain from height maps, when given.
+  std::vector<std::pair<std::string, io::Heightmap>> maps;
+  for (const auto& [path, quantity] : {std::pair{job.material_map_path, "material"}, std::pair{job.base_map_path, "base"}}) {
+    if (path.empty()) continue;
+    io::Heightmap map = io::read_heightmap(path);
+    if (map.quantity != quantity)
+      throw io::InputError(path + ": field 'quantity' is \"" + map.quantity + "\" (expected \"" + quantity + "\")");
+    if (maps.empty()) {
+      spec.nx = map.nx;
+      spec.ny = map.ny;
+      spec.cell_size_m = map.cell_size_m;
+      spec.origin_m = map.origin_m;
+    } else if (map.nx != spec.nx || map.ny != spec.ny || map.cell_size_m != spec.cell_size_m) {
+      throw io::InputError(path + ": fields 'nx', 'ny', 'cell_size_m' differ from " + maps.front().first);
+    }
+    maps.emplace_back(path, std::move(map));
+  }
   terrain::GranularGrid grid(spec, soil, job.step_dt_s);
+  for (const auto& [path, map] : maps) {
+    for (int j = 0; j < spec.ny; ++j)
+      for (int i = 0; i < spec.nx; ++i) {
+        if (map.quantity == "base") {
+          grid.set_base_m(i, j, map.at(i, j));
+        } else if (map.at(i, j) < 0.0) {
+          throw io::InputError(path + ": negative material depth at cell (" + std::to_string(i) + ", " +
+                               std::to_string(j) + ")");
+        } else {
+          grid.set_material_m(i, j, map.at(i, j));
+        }
+      }
+  }
   if (job.layer_depth_m > 0.0)
     for (int j = 0; j < spec.ny; ++j)
-      for (int i = 0; i < spec.nx; ++i) grid.set_material_m(i, j, job.layer_depth_m);
+      for (int i = 0; i < spec.nx; ++i) grid.set_material_m(i, j, grid.material_m(i, j) + job.layer_depth_m);
+  const double initial_centre_m = grid.material_m(spec.nx / 2, spec.ny / 2);
 
   // Hopper outlet: the cells whose centres lie within its radius (f1), each
   // receiving an equal share of the flow every step (f2).
   const int ci = spec.nx / 2, cj = spec.ny / 2;
   std::vector<std::pair<int, int>> outlet;
-  const int reach = static_cast<int>(std::ceil(job.hopper_radius_m / job.cell_size_m));
+  const int reach = static_cast<int>(std::ceil(job.hopper_radius_m / spec.cell_size_m));
   for (int dj = -reach; dj <= reach; ++dj)
     for (int di = -reach; di <= reach; ++di)
-      if (std::hypot(di, dj) * job.cell_size_m <= job.hopper_radius_m + 1e-12 && grid.contains(ci + di, cj + dj))
+      if (std::hypot(di, dj) * spec.cell_size_m <= job.hopper_radius_m + 1e-12 && grid.contains(ci + di, cj + dj))
         outlet.emplace_back(ci + di, cj + dj);
   const double volume_per_cell_step =
       job.pour_rate_kg_per_s * job.step_dt_s / soil.bulk_density_kg_m3 / static_cast<double>(outlet.size());
@@ -98,7 +130,7 @@ int run_pour_job(const PourJob& job) {
   const auto surface_info = io::write_heightmap((fs::path(job.out_dir) / "terrain_surface").string(), snapshot(grid, "surface"));
   const auto material_info = io::write_heightmap((fs::path(job.out_dir) / "terrain_material").string(), snapshot(grid, "material"));
 
-  const terrain::PileMetrics pile = terrain::measure_pile(grid, ci, cj, job.layer_depth_m + 0.005);
+  const terrain::PileMetrics pile = terrain::measure_pile(grid, ci, cj, initial_centre_m + 0.005);
   const terrain::MaterialLedger ledger = grid.ledger();
   const terrain::FlowLaw& law = grid.flow_law();
   const double quantum_kg = grid.quantum_mass_kg();
@@ -111,11 +143,13 @@ int run_pour_job(const PourJob& job) {
                 {"rolling_speed_m_per_s", soil.rolling_speed_m_per_s},
                 {"rolling_layer_m", soil.rolling_layer_m},
                 {"table", table_path}}},
-      {"site", {{"size_m", job.site_size_m},
-                {"cell_size_m", job.cell_size_m},
+      {"site", {{"size_m", spec.nx * spec.cell_size_m},
+                {"cell_size_m", spec.cell_size_m},
                 {"nx", spec.nx},
                 {"ny", spec.ny},
                 {"layer_depth_m", job.layer_depth_m},
+                {"material_map", job.material_map_path},
+                {"base_map", job.base_map_path},
                 {"edges", job.open_edges ? "open" : "closed"}}},
       {"flow_law", {{"z_plus_per_sweep_m", law.z_plus_per_sweep_m},
                     {"z_plus_over_cell", law.z_plus_per_sweep_m / law.cell_size_m},
@@ -150,7 +184,7 @@ int run_pour_job(const PourJob& job) {
   io::write_text_atomically((fs::path(job.out_dir) / "summary.json").string(), summary.dump(2) + "\n");
 
   std::cout << "poured " << summary["pour"]["poured_kg"].get<double>() << " kg of " << soil.name << " on a "
-            << spec.nx << " x " << spec.ny << " grid (" << job.cell_size_m << " m cells); "
+            << spec.nx << " x " << spec.ny << " grid (" << spec.cell_size_m << " m cells); "
             << (grid.at_rest() ? "at rest" : "still moving") << " after " << sim_s << " s simulated in " << wall_s
             << " s (x" << (wall_s > 0 ? sim_s / wall_s : 0.0) << " real time)\n"
             << "pile: apex " << pile.apex_material_m << " m, radius " << pile.radius_axes_m << " m (axes) / "

@@ -20,6 +20,11 @@ struct PourJob {
   double max_settle_s = 30.0;   // stop earlier once the terrain is at rest
   double step_dt_s = 0.002;
   bool open_edges = false;
+  // Optional height maps (skidsim-heightmap JSON) for the initial terrain:
+  // material depth and hard base. Either sets the grid (size, cell, origin)
+  // in place of site_size_m and cell_size_m; given both, they must agree.
+  std::string material_map_path;
+  std::string base_map_path;
   std::string out_dir = "runs/pour";
 };
 

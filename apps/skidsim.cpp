@@ -68,6 +68,13 @@ int main(int argc, char** argv) {
   pour_cmd->add_option("--pour-s", pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(CLI::NonNegativeNumber);
   pour_cmd->add_option("--hopper-m", pour.hopper_radius_m, "Hopper outlet radius, m")->capture_default_str()->check(CLI::NonNegativeNumber);
   pour_cmd->add_option("--settle-s", pour.max_settle_s, "Longest settling time after the pour, s")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_option("--material-map", pour.material_map_path,
+                       "Initial material depth: a height map's JSON (quantity \"material\"), e.g. a previous run's "
+                       "terrain_material.json; sets the grid")
+      ->check(CLI::ExistingFile);
+  pour_cmd->add_option("--base-map", pour.base_map_path,
+                       "Hard base relief: a height map's JSON (quantity \"base\"); sets the grid")
+      ->check(CLI::ExistingFile);
   pour_cmd->add_flag("--open-edges", pour.open_edges, "Site edges are drop-offs (material leaving is counted off-site) instead of walls");
 
   bool bench_json = false;

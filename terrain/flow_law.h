@@ -54,8 +54,8 @@ struct FlowLaw {
   // eta, and nothing at or below alpha_I.
   double moved_height_m(double tan_beta) const {
     const double excess = tan_beta - tan_stop;
-    if (excess <= 0.0) return 0.0;
-    return z_plus_per_sweep_m * (excess > transport_excess ? excess : transport_excess);
+    const double moved = z_plus_per_sweep_m * (excess > transport_excess ? excess : transport_excess);
+    return excess > 0.0 ? moved : 0.0;  // a select, not a branch: the sweep vectorises
   }
 };
 

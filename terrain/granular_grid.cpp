@@ -45,11 +45,9 @@ inline double face_flux_quanta(double drop_m, double tangential_m, double inv_d,
   const double normal = drop_m * inv_d, tangential = tangential_m * inv_d;
   const double tan2 = normal * normal + tangential * tangential;
   const double tan_beta = std::sqrt(tan2);
-  const double excess = tan_beta - law.tan_stop;
-  const double flow = law.z_plus_per_sweep_m * std::max(excess, law.transport_excess);
   // One face carries at most 2 m per sweep; a higher cliff just takes more
   // sweeps (a smaller flux keeps the bound).
-  const double quanta = std::min(flow * (normal / tan_beta) * (1.0 / kHeightQuantumM), 2.0e9);
+  const double quanta = std::min(law.moved_height_m(tan_beta) * (normal / tan_beta) * (1.0 / kHeightQuantumM), 2.0e9);
   const bool flows = (drop_m > 0.0) & (tan2 > threshold2);
   return flows ? quanta + 0.5 : 0.0;
 }

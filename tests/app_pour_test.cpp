@@ -69,6 +69,33 @@ TEST(SkidsimPour, SameJobTwiceGivesIdenticalTerrain) {
   fs::remove_all(b);
 }
 
+TEST(SkidsimPour, ContinuesFromAnExportedTerrain) {
+  // Export a pile, import it as the initial terrain of a second pour: the
+  // second run starts from the first's material and adds its own.
+  const fs::path first = fs::temp_directory_path() / "skidsim_pour_first";
+  const fs::path second = fs::temp_directory_path() / "skidsim_pour_second";
+  fs::remove_all(first);
+  fs::remove_all(second);
+  ASSERT_EQ(run("pour --out " + first.string() + " --site-m 2 --pour-s 2 --settle-s 5").exit_code, 0);
+  const Result r = run("pour --out " + second.string() + " --material-map " + (first / "terrain_material.json").string() +
+                       " --pour-s 2 --settle-s 5");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary_of = [](const fs::path& d) { return nlohmann::json::parse(std::ifstream(d / "summary.json")); };
+  const auto a = summary_of(first), b = summary_of(second);
+  // The import rounds each cell to half a 16-bit step of the exported map.
+  const double step_kg = 0.5 * a["files"]["material_vertical_scale_m"].get<double>() * 0.05 * 0.05 *
+                         a["soil"]["bulk_density_kg_m3"].get<double>() * 40 * 40;
+  EXPECT_NEAR(b["result"]["material_in_cells_kg"].get<double>(),
+              a["result"]["material_in_cells_kg"].get<double>() + b["pour"]["poured_kg"].get<double>(), step_kg);
+  EXPECT_GT(b["result"]["pile_apex_m"].get<double>(), a["result"]["pile_apex_m"].get<double>());
+  // A surface map is not a material map.
+  const Result bad = run("pour --out " + second.string() + " --material-map " + (first / "terrain_surface.json").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("quantity"), std::string::npos) << bad.output;
+  fs::remove_all(first);
+  fs::remove_all(second);
+}
+
 TEST(SkidsimPour, BadInputIsReportedWithANonZeroExit) {
   Result r = run("pour --soil moon_dust --out /tmp/skidsim_never");
   EXPECT_EQ(r.exit_code, 2);
