@@ -1,5 +1,8 @@
 #include "apps/pour_job.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -53,6 +56,11 @@ int run_pour_job(const PourJob& job) {
   spec.origin_m = {0.5 * job.cell_size_m, 0.5 * job.cell_size_m};
   spec.edges.fill(job.open_edges ? terrain::EdgeKind::kOpen : terrain::EdgeKind::kClosed);
 
+  if (spec.nx < 3 && job.material_map_path.empty() && job.base_map_path.empty()) {
+    throw io::InputError("--site-m " + std::to_string(job.site_size_m) + " and --cell-m " +
+                         std::to_string(job.cell_size_m) + " give fewer than 3 cells across the site");
+  }
+
   // Initial terrain from height maps, when given.
   std::vector<std::pair<std::string, io::Heightmap>> maps;
   for (const auto& [path, quantity] : {std::pair{job.material_map_path, "material"}, std::pair{job.base_map_path, "base"}}) {
@@ -65,24 +73,26 @@ int run_pour_job(const PourJob& job) {
       spec.ny = map.ny;
       spec.cell_size_m = map.cell_size_m;
       spec.origin_m = map.origin_m;
-    } else if (map.nx != spec.nx || map.ny != spec.ny || map.cell_size_m != spec.cell_size_m) {
-      throw io::InputError(path + ": fields 'nx', 'ny', 'cell_size_m' differ from " + maps.front().first);
+    } else if (map.nx != spec.nx || map.ny != spec.ny || map.cell_size_m != spec.cell_size_m ||
+               map.origin_m != spec.origin_m) {
+      throw io::InputError(path + ": fields 'nx', 'ny', 'cell_size_m', 'origin_m' differ from " + maps.front().first);
     }
     maps.emplace_back(path, std::move(map));
   }
   terrain::GranularGrid grid(spec, soil, job.step_dt_s);
   for (const auto& [path, map] : maps) {
-    for (int j = 0; j < spec.ny; ++j)
-      for (int i = 0; i < spec.nx; ++i) {
-        if (map.quantity == "base") {
-          grid.set_base_m(i, j, map.at(i, j));
-        } else if (map.at(i, j) < 0.0) {
-          throw io::InputError(path + ": negative material depth at cell (" + std::to_string(i) + ", " +
-                               std::to_string(j) + ")");
-        } else {
-          grid.set_material_m(i, j, map.at(i, j));
+    try {  // out-of-range heights are refused by the grid; name the file
+      for (int j = 0; j < spec.ny; ++j)
+        for (int i = 0; i < spec.nx; ++i) {
+          if (map.quantity == "base") {
+            grid.set_base_m(i, j, map.at(i, j));
+          } else {
+            grid.set_material_m(i, j, map.at(i, j));
+          }
         }
-      }
+    } catch (const std::invalid_argument& e) {
+      throw io::InputError(path + ": " + e.what());
+    }
   }
   if (job.layer_depth_m > 0.0)
     for (int j = 0; j < spec.ny; ++j)
@@ -93,7 +103,8 @@ int run_pour_job(const PourJob& job) {
   // receiving an equal share of the flow every step (f2).
   const int ci = spec.nx / 2, cj = spec.ny / 2;
   std::vector<std::pair<int, int>> outlet;
-  const int reach = static_cast<int>(std::ceil(job.hopper_radius_m / spec.cell_size_m));
+  const int reach = static_cast<int>(std::min<double>(std::ceil(job.hopper_radius_m / spec.cell_size_m),
+                                                       std::max(spec.nx, spec.ny)));
   for (int dj = -reach; dj <= reach; ++dj)
     for (int di = -reach; di <= reach; ++di)
       if (std::hypot(di, dj) * spec.cell_size_m <= job.hopper_radius_m + 1e-12 && grid.contains(ci + di, cj + dj))
@@ -101,7 +112,20 @@ int run_pour_job(const PourJob& job) {
   const double volume_per_cell_step =
       job.pour_rate_kg_per_s * job.step_dt_s / soil.bulk_density_kg_m3 / static_cast<double>(outlet.size());
 
-  fs::create_directories(job.out_dir);
+  // Everything is written into a fresh sibling folder, which replaces the run
+  // directory only once complete: a failed run leaves the previous results
+  // (or nothing), never a mixture.
+  const fs::path out_dir = fs::path(job.out_dir).lexically_normal();
+  const fs::path staging = out_dir.string() + ".partial-" + std::to_string(::getpid());
+  fs::remove_all(staging);
+  fs::create_directories(staging);
+  struct StagingCleanup {
+    fs::path dir;
+    ~StagingCleanup() {
+      std::error_code ignored;
+      if (!dir.empty()) fs::remove_all(dir, ignored);
+    }
+  } cleanup{staging};
   const double total_s = job.pour_duration_s + job.max_settle_s;
   Progress progress("pour", total_s);
   std::int64_t step = 0;
@@ -112,7 +136,11 @@ int run_pour_job(const PourJob& job) {
   const auto max_steps = pour_steps + static_cast<std::int64_t>(std::llround(job.max_settle_s / job.step_dt_s));
   for (; step < max_steps; ++step) {
     if (step < pour_steps) {
-      for (const auto& [i, j] : outlet) grid.add_material_m3(i, j, volume_per_cell_step);
+      try {
+        for (const auto& [i, j] : outlet) grid.add_material_m3(i, j, volume_per_cell_step);
+      } catch (const std::invalid_argument& e) {
+        throw io::InputError(std::string("--rate-kg-s ") + std::to_string(job.pour_rate_kg_per_s) + ": " + e.what());
+      }
     } else if (grid.at_rest()) {
       break;
     }
@@ -127,8 +155,8 @@ int run_pour_job(const PourJob& job) {
   const double sim_s = step * job.step_dt_s;
   const double wall_s = progress.wall_seconds();
 
-  const auto surface_info = io::write_heightmap((fs::path(job.out_dir) / "terrain_surface").string(), snapshot(grid, "surface"));
-  const auto material_info = io::write_heightmap((fs::path(job.out_dir) / "terrain_material").string(), snapshot(grid, "material"));
+  const auto surface_info = io::write_heightmap((staging / "terrain_surface").string(), snapshot(grid, "surface"));
+  const auto material_info = io::write_heightmap((staging / "terrain_material").string(), snapshot(grid, "material"));
 
   const terrain::PileMetrics pile = terrain::measure_pile(grid, ci, cj, initial_centre_m + 0.005);
   const terrain::MaterialLedger ledger = grid.ledger();
@@ -181,7 +209,16 @@ int run_pour_job(const PourJob& job) {
                  {"material", "terrain_material.png"},
                  {"material_vertical_scale_m", material_info.vertical_scale_m}}},
   };
-  io::write_text_atomically((fs::path(job.out_dir) / "summary.json").string(), summary.dump(2) + "\n");
+  io::write_text_atomically((staging / "summary.json").string(), summary.dump(2) + "\n");
+  if (fs::exists(out_dir)) {
+    const fs::path replaced = out_dir.string() + ".replaced-" + std::to_string(::getpid());
+    fs::rename(out_dir, replaced);
+    fs::rename(staging, out_dir);
+    fs::remove_all(replaced);
+  } else {
+    fs::rename(staging, out_dir);
+  }
+  cleanup.dir.clear();
 
   std::cout << "poured " << summary["pour"]["poured_kg"].get<double>() << " kg of " << soil.name << " on a "
             << spec.nx << " x " << spec.ny << " grid (" << spec.cell_size_m << " m cells); "

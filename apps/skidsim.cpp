@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   pour_cmd->add_option("--soil-table", pour.soil_table_path, "Soil table XML (default: assets/soils.xml)");
   pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(CLI::PositiveNumber);
   pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(CLI::PositiveNumber);
-  pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(CLI::Range(0.0, 1000.0));
   pour_cmd->add_option("--rate-kg-s", pour.pour_rate_kg_per_s, "Hopper flow, kg/s")->capture_default_str()->check(CLI::NonNegativeNumber);
   pour_cmd->add_option("--pour-s", pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(CLI::NonNegativeNumber);
   pour_cmd->add_option("--hopper-m", pour.hopper_radius_m, "Hopper outlet radius, m")->capture_default_str()->check(CLI::NonNegativeNumber);

@@ -54,6 +54,7 @@ void BM_AllActiveSweep(benchmark::State& state) {
   state.counters["per_cell"] = benchmark::Counter(static_cast<double>(visits),
                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["state_B_per_cell"] = static_cast<double>(GranularGrid::kStateBytesPerCell);
+  state.counters["scratch_B_per_cell"] = static_cast<double>(grid->scratch_bytes()) / (static_cast<double>(n) * n);
 }
 BENCHMARK(BM_AllActiveSweep)->Arg(30)->Arg(64)->Arg(256)->Arg(1024)->Arg(2048)->Unit(benchmark::kMicrosecond);
 

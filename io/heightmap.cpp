@@ -71,7 +71,13 @@ std::vector<std::uint16_t> read_png16(const std::string& path, int& width, int& 
     png_destroy_read_struct(&png, &info, nullptr);
     throw std::runtime_error("libpng: cannot create reader for " + path);
   }
-  std::vector<std::uint16_t> pixels;
+  // libpng reports errors by longjmp: the buffers live behind a pointer made
+  // before setjmp, so nothing set up after it is skipped or left undefined.
+  struct Buffers {
+    std::vector<std::uint16_t> pixels;
+    std::vector<png_bytep> rows;
+  };
+  const auto buffers = std::make_unique<Buffers>();
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw InputError(path + ": corrupt or truncated PNG");
@@ -93,14 +99,15 @@ std::vector<std::uint16_t> read_png16(const std::string& path, int& width, int& 
   png_set_swap(png);
   png_set_interlace_handling(png);
   png_read_update_info(png, info);
-  pixels.resize(static_cast<std::size_t>(width) * height);
-  std::vector<png_bytep> row_ptrs(static_cast<std::size_t>(height));
+  buffers->pixels.resize(static_cast<std::size_t>(width) * height);
+  buffers->rows.resize(static_cast<std::size_t>(height));
   for (int r = 0; r < height; ++r)
-    row_ptrs[static_cast<std::size_t>(r)] = reinterpret_cast<png_bytep>(&pixels[static_cast<std::size_t>(r) * width]);
-  png_read_image(png, row_ptrs.data());
+    buffers->rows[static_cast<std::size_t>(r)] =
+        reinterpret_cast<png_bytep>(&buffers->pixels[static_cast<std::size_t>(r) * width]);
+  png_read_image(png, buffers->rows.data());
   png_read_end(png, nullptr);
   png_destroy_read_struct(&png, &info, nullptr);
-  return pixels;
+  return std::move(buffers->pixels);
 }
 
 template <typename T>
@@ -181,8 +188,11 @@ Heightmap read_heightmap(const std::string& json_path) {
   const double z_offset = field<double>(meta, "z_offset_m", json_path);
   const double scale = field<double>(meta, "vertical_scale_m", json_path);
   const std::string image = field<std::string>(meta, "image", json_path);
-  if (origin.size() != 2) throw InputError(json_path + ": field 'origin_m' must be [x, y]");
-  if (!(map.cell_size_m > 0.0)) throw InputError(json_path + ": field 'cell_size_m' must be > 0");
+  if (origin.size() != 2 || !std::isfinite(origin[0]) || !std::isfinite(origin[1]))
+    throw InputError(json_path + ": field 'origin_m' must be [x, y] with finite x and y");
+  if (!(map.cell_size_m > 0.0) || !std::isfinite(map.cell_size_m))
+    throw InputError(json_path + ": field 'cell_size_m' must be a finite number > 0");
+  if (map.nx < 1 || map.ny < 1) throw InputError(json_path + ": fields 'nx', 'ny' must be >= 1");
   if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError(json_path + ": field 'vertical_scale_m' must be > 0");
   if (!std::isfinite(z_offset)) throw InputError(json_path + ": field 'z_offset_m' must be finite");
   if (map.quantity != "surface" && map.quantity != "material" && map.quantity != "base")

@@ -31,8 +31,11 @@ class AttributeReader {
     known_.insert(name);
     const char* text = e_->Attribute(name);
     if (!text) fail(path_, e_, std::string("missing attribute '") + name + "'");
-    double v = 0.0;
-    if (e_->QueryDoubleAttribute(name, &v) != tinyxml2::XML_SUCCESS || !std::isfinite(v))
+    // The whole value must be a number: "33deg" is an error, not 33.
+    char* end = nullptr;
+    const double v = std::strtod(text, &end);
+    while (end && (*end == ' ' || *end == '\t')) ++end;
+    if (end == text || !end || *end != '\0' || !std::isfinite(v))
       fail(path_, e_, std::string("attribute '") + name + "' = \"" + text + "\": expected a number");
     return v;
   }

@@ -1,5 +1,6 @@
 #include "terrain/flow_law.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -51,19 +52,20 @@ FlowLaw derive_flow_law(const SoilFlowParameters& soil, double cell_size_m,
   // (4.11) for one whole step, then the sub-steps the bound asks for.
   const double z_plus_step = step_dt_s * soil.rolling_speed_m_per_s * soil.rolling_layer_m / cell_size_m;
   const double ratio = z_plus_step / cell_size_m;  // = dt v h_r / d^2
-  const int needed = static_cast<int>(std::ceil(ratio / kMaxZPlusOverCell - 1e-12));
-  const int substeps = needed < 1 ? 1 : needed;
-  if (substeps > max_substeps) {
+  // In double: a huge ratio must not wrap around an int.
+  const double needed = std::max(1.0, std::ceil(ratio / kMaxZPlusOverCell - 1e-12));
+  if (!(needed <= max_substeps)) {
     std::ostringstream msg;
     msg << "soil '" << soil.name << "': the avalanche sweep is unstable at cell size "
         << cell_size_m << " m: dt*v*h_r/d^2 = " << ratio << " exceeds the bound "
-        << kMaxZPlusOverCell << " and would need " << substeps
+        << kMaxZPlusOverCell << " and would need " << needed
         << " sub-steps per step (limit " << max_substeps
         << "). Use larger cells, a smaller rolling_speed_m_per_s or rolling_layer_m, or"
         << " allow more sub-steps.";
     throw std::invalid_argument(msg.str());
   }
 
+  const int substeps = static_cast<int>(needed);
   FlowLaw law;
   law.tan_repose = tan_deg(soil.repose_angle_deg);
   law.tan_stop = tan_deg(soil.stop_angle_deg);

@@ -101,7 +101,8 @@ MaterialLedger GranularGrid::ledger() const {
 std::size_t GranularGrid::scratch_bytes() const {
   return pending_.capacity() * sizeof(std::uint32_t) + current_.capacity() * sizeof(std::uint32_t) +
          changed_.capacity() * sizeof(std::uint32_t) + flux_.capacity() * sizeof(CellFlux) +
-         dense_out_.capacity() * sizeof(dense_out_[0]);
+         dense_out_.capacity() * sizeof(dense_out_[0]) + dense_changed_.capacity() * sizeof(std::uint32_t) +
+         row_q_.capacity() * sizeof(double);
 }
 
 void GranularGrid::wake(int cell) {
@@ -120,16 +121,34 @@ void GranularGrid::wake(int cell) {
   }
 }
 
+void GranularGrid::check_cell(const char* what, int i, int j) const {
+  if (!contains(i, j)) {
+    std::ostringstream msg;
+    msg << what << ": cell (" << i << ", " << j << ") is outside the " << spec_.nx << " x " << spec_.ny << " grid";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
 void GranularGrid::set_base_m(int i, int j, double base_m) {
-  if (!contains(i, j) || !std::isfinite(base_m)) throw std::invalid_argument("set_base_m: bad cell or value");
+  check_cell("set_base_m", i, j);
+  if (!(std::abs(base_m) <= kMaxBaseAbsM)) {
+    std::ostringstream msg;
+    msg << "base height " << base_m << " m at cell (" << i << ", " << j << ") is not within +-" << kMaxBaseAbsM << " m";
+    throw std::invalid_argument(msg.str());
+  }
   base_m_[index(i, j)] = static_cast<float>(base_m);
   refresh_surface(index(i, j));
   wake(index(i, j));
 }
 
 void GranularGrid::set_material_m(int i, int j, double material_m) {
-  if (!contains(i, j) || !(material_m >= 0.0) || !std::isfinite(material_m))
-    throw std::invalid_argument("set_material_m: bad cell or negative/non-finite height");
+  check_cell("set_material_m", i, j);
+  if (!(material_m >= 0.0 && material_m <= kMaxColumnM)) {
+    std::ostringstream msg;
+    msg << "material depth " << material_m << " m at cell (" << i << ", " << j << ") is not within [0, "
+        << kMaxColumnM << "] m";
+    throw std::invalid_argument(msg.str());
+  }
   const int c = index(i, j);
   const std::int64_t q = to_quanta(material_m);
   ledger_.initial += q - quanta_[c];
@@ -139,9 +158,15 @@ void GranularGrid::set_material_m(int i, int j, double material_m) {
 }
 
 double GranularGrid::add_material_m3(int i, int j, double volume_m3) {
-  if (!contains(i, j) || !(volume_m3 >= 0.0) || !std::isfinite(volume_m3))
-    throw std::invalid_argument("add_material_m3: bad cell or negative/non-finite volume");
+  check_cell("add_material_m3", i, j);
   const int c = index(i, j);
+  const double column_after_m = material_m(i, j) + volume_m3 / (spec_.cell_size_m * spec_.cell_size_m);
+  if (!(volume_m3 >= 0.0 && column_after_m <= kMaxColumnM)) {
+    std::ostringstream msg;
+    msg << "adding " << volume_m3 << " m^3 at cell (" << i << ", " << j << "): the volume must be >= 0 and the column"
+        << " stay within " << kMaxColumnM << " m";
+    throw std::invalid_argument(msg.str());
+  }
   const std::int64_t q = std::llround(volume_m3 / quantum_volume_m3());
   if (q == 0) return 0.0;
   quanta_[c] += q;
@@ -154,10 +179,16 @@ double GranularGrid::add_material_m3(int i, int j, double volume_m3) {
 }
 
 double GranularGrid::remove_material_m3(int i, int j, double volume_m3) {
-  if (!contains(i, j) || !(volume_m3 >= 0.0) || !std::isfinite(volume_m3))
-    throw std::invalid_argument("remove_material_m3: bad cell or negative/non-finite volume");
+  check_cell("remove_material_m3", i, j);
+  if (!(volume_m3 >= 0.0)) {
+    std::ostringstream msg;
+    msg << "removing " << volume_m3 << " m^3 at cell (" << i << ", " << j << "): the volume must be >= 0";
+    throw std::invalid_argument(msg.str());
+  }
   const int c = index(i, j);
-  const std::int64_t q = std::min<std::int64_t>(std::llround(volume_m3 / quantum_volume_m3()), quanta_[c]);
+  // Limited to what the cell holds (compared in double first: no overflow).
+  const double wanted = volume_m3 / quantum_volume_m3();
+  const std::int64_t q = wanted >= static_cast<double>(quanta_[c]) ? quanta_[c] : std::llround(wanted);
   if (q == 0) return 0.0;
   quanta_[c] -= q;
   ledger_.removed += q;
@@ -220,7 +251,8 @@ void GranularGrid::compute_flux(std::uint32_t cell, const FaceGeometry& g, CellF
   flux.out = clamp_to_available(q, quanta_[cell]);
 }
 
-std::array<std::int32_t, 4> GranularGrid::clamp_to_available(const double q[4], std::int64_t available) {
+__attribute__((always_inline)) inline std::array<std::int32_t, 4> GranularGrid::clamp_to_available(
+    const double q[4], std::int64_t available) {
   std::int64_t out[4];
   std::int64_t total = 0;
   for (int d = 0; d < 4; ++d) {
@@ -228,9 +260,22 @@ std::array<std::int32_t, 4> GranularGrid::clamp_to_available(const double q[4], 
     total += out[d];
   }
   if (total > available) {
-    // Never below the base: scale every outflow of this cell by one factor.
-    const std::int64_t keep = available > 0 ? available : 0;
-    for (auto& o : out) o = static_cast<std::int64_t>((static_cast<Int128>(o) * keep) / total);
+    // Never below the base: scale every outflow of this cell by one factor,
+    // then hand the quanta the rounding left over (fewer than 4) to the faces
+    // in a fixed order, so the cell sends exactly what it holds. (Rounding
+    // down alone could send nothing from a cell of 1-3 quanta with several
+    // faces flowing while it would send from one face under the higher
+    // static threshold: stopping must never depend on the threshold.)
+    std::int64_t sent = 0;
+    for (auto& o : out) {
+      o = static_cast<std::int64_t>((static_cast<Int128>(o) * available) / total);
+      sent += o;
+    }
+    for (int d = 0; d < 4 && sent < available; ++d) {
+      if (q[d] < 1.0) continue;  // only faces that flow
+      ++out[d];
+      ++sent;
+    }
   }
   return {static_cast<std::int32_t>(out[0]), static_cast<std::int32_t>(out[1]), static_cast<std::int32_t>(out[2]),
           static_cast<std::int32_t>(out[3])};
@@ -242,8 +287,9 @@ void GranularGrid::sweep() {
   ++sweep_count_;
   if (dense) {
     sweep_dense();
-    pending_all_ = mode_ != SweepMode::kSparse && changed_.size() * 8 > quanta_.size();
+    pending_all_ = mode_ != SweepMode::kSparse && changed_count_ * 8 > quanta_.size();
     if (pending_all_) return;  // the next sweep visits every cell anyway
+    changed_.assign(dense_changed_.begin(), dense_changed_.begin() + static_cast<std::ptrdiff_t>(changed_count_));
   } else {
     sweep_sparse();
   }
@@ -319,7 +365,7 @@ void GranularGrid::sweep_dense() {
   // Gather: what a cell keeps plus what its four neighbours send it. Phase 1
   // is over, so flags and surfaces are updated in place.
   const int nx = spec_.nx, ny = spec_.ny;
-  changed_.resize(n);
+  dense_changed_.resize(n);  // allocated once; written branch-free below
   std::size_t changed_count = 0;
   const auto gather_edge_cell = [&](std::uint32_t c) {
     const auto& out = dense_out_[c];
@@ -338,7 +384,7 @@ void GranularGrid::sweep_dense() {
     quanta_[c] += received - sent;
     refresh_surface(static_cast<int>(c));
     flags_[c] = static_cast<std::uint8_t>((f & ~kFlowing) | (changed ? kFlowing : 0));
-    changed_[changed_count] = c;
+    dense_changed_[changed_count] = c;
     changed_count += changed;
   };
   std::int64_t toppled = 0, moved = 0;
@@ -356,7 +402,7 @@ void GranularGrid::sweep_dense() {
     double* __restrict surface = surface_m_.data();
     const float* __restrict base = base_m_.data();
     std::uint8_t* __restrict flags = flags_.data();
-    std::uint32_t* __restrict changed_list = changed_.data();
+    std::uint32_t* __restrict changed_list = dense_changed_.data();
     for (std::uint32_t c = row + 1; c < row + static_cast<std::uint32_t>(nx) - 1; ++c) {
       const std::int64_t sent = std::int64_t{out[c][0]} + out[c][1] + out[c][2] + out[c][3];
       const std::int64_t received =
@@ -375,7 +421,7 @@ void GranularGrid::sweep_dense() {
   }
   last_step_.cells_toppled += toppled;
   last_step_.moved_quanta += moved;
-  changed_.resize(changed_count);
+  changed_count_ = changed_count;
   last_step_.cells_checked += n;
 }
 

@@ -21,6 +21,11 @@ namespace skidsim::terrain {
 // int64, and exact conversion to double for columns below 8e6 m.
 inline constexpr double kHeightQuantumM = 1.0 / 1073741824.0;
 
+// Limits that keep every amount and sum far inside int64 and float range:
+// the material a single column may hold, and the base heights.
+inline constexpr double kMaxColumnM = 1000.0;
+inline constexpr double kMaxBaseAbsM = 100000.0;
+
 enum class EdgeKind : std::uint8_t {
   kClosed,  // a wall: nothing crosses it
   kOpen,    // a drop-off: material crossing it is counted as lost off-site
@@ -97,7 +102,9 @@ class GranularGrid {
   MaterialLedger ledger() const;
 
   // Initial state. set_* counts towards the ledger's `initial`, not `added`,
-  // and wakes the cell and its neighbours.
+  // and wakes the cell and its neighbours. Throws std::invalid_argument for a
+  // cell outside the grid, a non-finite or negative amount, a column over
+  // kMaxColumnM or a base beyond kMaxBaseAbsM.
   void set_base_m(int i, int j, double base_m);
   void set_material_m(int i, int j, double material_m);
 
@@ -131,8 +138,10 @@ class GranularGrid {
   enum class SweepMode { kAuto, kSparse, kDense };
   void set_sweep_mode(SweepMode mode) { mode_ = mode; }
 
-  // Bytes of per-cell state (excluding the sweep scratch): material quanta,
-  // base, the cached surface height and the flags.
+  // Bytes of per-cell state: material quanta, base, the cached surface
+  // height and the flags. The sweep's scratch comes on top (scratch_bytes()):
+  // about 20 bytes per active cell, and 20 bytes per cell of the grid once a
+  // sweep has been dense (more than 1/8 of the grid active).
   static constexpr std::size_t kStateBytesPerCell =
       sizeof(std::int64_t) + sizeof(float) + sizeof(double) + sizeof(std::uint8_t);
   std::size_t scratch_bytes() const;
@@ -148,6 +157,7 @@ class GranularGrid {
     std::array<std::int32_t, 4> out;
   };
 
+  void check_cell(const char* what, int i, int j) const;
   void wake(int cell);  // queue a cell's 3 x 3 neighbourhood for the next sweep
   void refresh_surface(int cell) { surface_m_[cell] = base_m_[cell] + quanta_[cell] * kHeightQuantumM; }
   void sweep();
@@ -190,6 +200,8 @@ class GranularGrid {
   std::vector<CellFlux> flux_;                   // sparse sweep: per active cell
   std::vector<std::array<std::int32_t, 4>> dense_out_;  // dense sweep: per cell
   std::vector<double> row_q_;                            // dense sweep: one row of face fluxes
+  std::vector<std::uint32_t> dense_changed_;             // dense sweep: cells changed, first changed_count_
+  std::size_t changed_count_ = 0;
   SweepMode mode_ = SweepMode::kAuto;
   // After a dense sweep that changed many cells the next sweep is dense too:
   // the active set is then "every cell" and is not listed.

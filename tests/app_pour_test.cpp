@@ -112,12 +112,54 @@ TEST(SkidsimPour, BadInputIsReportedWithANonZeroExit) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("sub-steps"), std::string::npos) << r.output;
 
+  r = run("pour --site-m 0.01 --out /tmp/skidsim_never");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--site-m"), std::string::npos) << r.output;
+
+  r = run("pour --layer-m 1e10 --out /tmp/skidsim_never");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("layer-m"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists("/tmp/skidsim_never"));
+
   const fs::path bad = fs::temp_directory_path() / "skidsim_bad_table.xml";
   std::ofstream(bad) << "<soils>\n  <soil id=\"x\">\n    <flow bulk_density_kg_m3=\"-5\"/>\n  </soil>\n</soils>\n";
   r = run("pour --soil-table " + bad.string() + " --out /tmp/skidsim_never");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find(bad.string() + ":2"), std::string::npos) << r.output;
   fs::remove(bad);
+}
+
+TEST(SkidsimPour, AFailedRunLeavesThePreviousResultsWhole) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_pour_keep";
+  fs::remove_all(dir);
+  ASSERT_EQ(run("pour --out " + dir.string() + " --site-m 2 --pour-s 1 --settle-s 2").exit_code, 0);
+  const auto before = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  // Fails part-way through the pour (the column limit), after the run began.
+  const Result r = run("pour --out " + dir.string() + " --site-m 2 --rate-kg-s 1e12 --pour-s 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--rate-kg-s"), std::string::npos) << r.output;
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(dir / "summary.json")), before);
+  EXPECT_NO_THROW(skidsim::io::read_heightmap((dir / "terrain_material.json").string()));
+  for (const auto& entry : fs::directory_iterator(dir.parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find("skidsim_pour_keep."), std::string::npos) << entry.path();
+  fs::remove_all(dir);
+}
+
+TEST(SkidsimPour, OutOfRangeHeightMapsNameTheFile) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_pour_hm";
+  fs::remove_all(dir);
+  ASSERT_EQ(run("pour --out " + dir.string() + " --site-m 1 --pour-s 1 --settle-s 1").exit_code, 0);
+  nlohmann::json meta = nlohmann::json::parse(std::ifstream(dir / "terrain_material.json"));
+  meta["z_offset_m"] = 1e10;
+  meta["image"] = (dir / "terrain_material.png").string();
+  const fs::path deep = fs::temp_directory_path() / "skidsim_deep_material.json";
+  std::ofstream(deep) << meta.dump();
+  const Result r = run("pour --out " + (dir / "again").string() + " --material-map " + deep.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find(deep.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("material depth"), std::string::npos) << r.output;
+  fs::remove(deep);
+  fs::remove_all(dir);
 }
 
 TEST(SkidsimCommand, HelpListsTheSubcommands) {

@@ -53,6 +53,10 @@ TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
   expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n",
                {":3:", "<flow>", "repose_angle_deg", "expected a number"});
   flow = kFlow;
+  flow.replace(flow.find("\"33\""), 4, "\"33deg\"");  // trailing junk is not a number
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n",
+               {":3:", "repose_angle_deg", "33deg"});
+  flow = kFlow;
   flow.replace(flow.find("\"30\""), 4, "\"40\"");  // stop angle above repose
   expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "stop_angle_deg"});
   expect_error("<soils>\n<soil id=\"a\" colour=\"red\">\n" + std::string(kFlow) + kTm + "</soil>\n</soils>\n",

@@ -33,7 +33,7 @@ TEST(AvalancheStatistics, SizesAreBroadAndTheWorkFollowsTheAvalanches) {
       const int edge_distance = std::min(std::min(i, j), std::min(n - 1 - i, n - 1 - j));
       g.set_material_m(i, j, 0.98 * tan_alpha * cell * (edge_distance + 1));
     }
-  testing::settle(g, 100000);
+  ASSERT_GE(testing::settle(g, 100000), 0);
 
   std::uint64_t rng = 7;
   const auto next = [&rng] {

@@ -51,6 +51,14 @@ TEST(FlowLaw, UnstableParametersAreRefusedWithAClearMessage) {
   }
 }
 
+TEST(FlowLaw, AHugeStabilityRatioIsRefusedNotWrapped) {
+  SoilFlowParameters soil;
+  // dt v h_r / d^2 ~ 6e8: more sub-steps than an int holds.
+  EXPECT_THROW(derive_flow_law(soil, 1e-6, 0.002, 64), std::invalid_argument);
+  soil.rolling_speed_m_per_s = 1e10;
+  EXPECT_THROW(derive_flow_law(soil, 0.05, 0.002, 1 << 30), std::invalid_argument);
+}
+
 TEST(FlowLaw, MovedHeightIsTransportNearTheStopAngleAndDiffusiveAbove) {
   const SoilFlowParameters soil;
   const FlowLaw law = derive_flow_law(soil, 0.05, 0.002, 64);
