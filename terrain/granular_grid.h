@@ -186,6 +186,8 @@ class GranularGrid {
   // what the cell holds.
   static std::array<std::int32_t, 4> clamp_to_available(const double q[4], std::int64_t available);
   void dense_fluxes();
+  void sparse_fluxes();
+  static constexpr std::size_t kFluxBlock = 64;
 
   GridSpec spec_;
   SoilFlowParameters soil_;
