@@ -33,28 +33,24 @@ std::uint64_t split_mix(std::uint64_t& state) {
   return z ^ (z >> 31);
 }
 
-// (4.16) as a finite-volume flux through one face whose slope tan(beta)
-// exceeds the threshold: the normal component (drop/d)/tan(beta) of the flux
-// z+(beta) (tan beta - tan alpha_I) along the gradient, with the transport
-// floor of h_stop; in quanta, plus 0.5 for the rounding. Each face flux is at
-// most z+ drop / d, which is what the stability bound rests on. Every caller
-// uses this same arithmetic, so the sparse and dense sweeps are bit-identical.
-inline double face_flux_value(double normal, double tan2, const FlowLaw& law) {
-  const double tan_beta = std::sqrt(tan2);
-  // One face carries at most 2 m per sweep; a higher cliff just takes more
-  // sweeps (a smaller flux keeps the bound).
-  return std::min(law.moved_height_m(tan_beta) * (normal / tan_beta) * (1.0 / kHeightQuantumM), 2.0e9) + 0.5;
-}
-
-// The same for any face, branch-free so that loops over cells vectorise:
-// zero unless the face is downhill and steeper than the threshold.
+// (4.16) as a finite-volume flux through one face: if the face is downhill
+// and its slope tan(beta) exceeds the threshold, the normal component
+// (drop/d)/tan(beta) of the flux z+(beta) (tan beta - tan alpha_I) along the
+// gradient, with the transport floor of h_stop; in quanta, plus 0.5 for the
+// rounding; zero otherwise. Each face flux is at most z+ drop / d, which is
+// what the stability bound rests on. Branch-free, so that loops over faces
+// vectorise; every sweep uses this one function, so the sparse and dense
+// sweeps are bit-identical.
 inline double face_flux_quanta(double drop_m, double tangential_m, double inv_d, double threshold2,
                                const FlowLaw& law) {
   const double normal = drop_m * inv_d, tangential = tangential_m * inv_d;
   const double tan2 = normal * normal + tangential * tangential;
-  const double value = face_flux_value(normal, tan2, law);
+  const double tan_beta = std::sqrt(tan2);
+  // One face carries at most 2 m per sweep; a higher cliff just takes more
+  // sweeps (a smaller flux keeps the bound).
+  const double quanta = std::min(law.moved_height_m(tan_beta) * (normal / tan_beta) * (1.0 / kHeightQuantumM), 2.0e9);
   const bool flows = (drop_m > 0.0) & (tan2 > threshold2);
-  return flows ? value : 0.0;
+  return flows ? quanta + 0.5 : 0.0;
 }
 
 }  // namespace
@@ -243,15 +239,8 @@ double GranularGrid::downhill_slope_tan(int i, int j) const {
 void GranularGrid::compute_flux(std::uint32_t cell, const FaceGeometry& g, CellFlux& flux) const {
   const double threshold = (flags_[cell] & kFlowing) ? law_.tan_stop : law_.tan_repose;
   const double inv_d = 1.0 / spec_.cell_size_m;
-  // One cell at a time: skip the square root for faces that cannot flow.
   double q[4];
-  for (int d = 0; d < 4; ++d) {
-    q[d] = 0.0;
-    if (g.drop[d] <= 0.0) continue;
-    const double normal = g.drop[d] * inv_d, tangential = g.tangential[d] * inv_d;
-    const double tan2 = normal * normal + tangential * tangential;
-    if (tan2 > threshold * threshold) q[d] = face_flux_value(normal, tan2, law_);
-  }
+  for (int d = 0; d < 4; ++d) q[d] = face_flux_quanta(g.drop[d], g.tangential[d], inv_d, threshold * threshold, law_);
   flux.cell = cell;
   flux.out = clamp_to_available(q, quanta_[cell]);
 }
