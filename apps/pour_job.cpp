@@ -50,16 +50,18 @@ int run_pour_job(const PourJob& job) {
   }
   const terrain::SoilFlowParameters& soil = it->second.flow;
 
+  // Between 3 and 16384 cells across (16384^2 cells take 5.6 GB of state).
+  const double cells_across = job.site_size_m / job.cell_size_m;
+  if (!(cells_across >= 2.5 && cells_across <= 16384.0) && job.material_map_path.empty() && job.base_map_path.empty()) {
+    throw io::InputError("--site-m " + std::to_string(job.site_size_m) + " and --cell-m " +
+                         std::to_string(job.cell_size_m) + " give " + std::to_string(cells_across) +
+                         " cells across the site (expected 3 to 16384)");
+  }
   terrain::GridSpec spec;
-  spec.nx = spec.ny = static_cast<int>(std::lround(job.site_size_m / job.cell_size_m));
+  spec.nx = spec.ny = static_cast<int>(std::lround(std::clamp(cells_across, 1.0, 16384.0)));
   spec.cell_size_m = job.cell_size_m;
   spec.origin_m = {0.5 * job.cell_size_m, 0.5 * job.cell_size_m};
   spec.edges.fill(job.open_edges ? terrain::EdgeKind::kOpen : terrain::EdgeKind::kClosed);
-
-  if (spec.nx < 3 && job.material_map_path.empty() && job.base_map_path.empty()) {
-    throw io::InputError("--site-m " + std::to_string(job.site_size_m) + " and --cell-m " +
-                         std::to_string(job.cell_size_m) + " give fewer than 3 cells across the site");
-  }
 
   // Initial terrain from height maps, when given.
   std::vector<std::pair<std::string, io::Heightmap>> maps;
@@ -94,9 +96,13 @@ int run_pour_job(const PourJob& job) {
       throw io::InputError(path + ": " + e.what());
     }
   }
-  if (job.layer_depth_m > 0.0)
-    for (int j = 0; j < spec.ny; ++j)
-      for (int i = 0; i < spec.nx; ++i) grid.set_material_m(i, j, grid.material_m(i, j) + job.layer_depth_m);
+  try {
+    if (job.layer_depth_m > 0.0)
+      for (int j = 0; j < spec.ny; ++j)
+        for (int i = 0; i < spec.nx; ++i) grid.set_material_m(i, j, grid.material_m(i, j) + job.layer_depth_m);
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(std::string("--layer-m: ") + e.what());
+  }
   const double initial_centre_m = grid.material_m(spec.nx / 2, spec.ny / 2);
 
   // Hopper outlet: the cells whose centres lie within its radius (f1), each

@@ -116,6 +116,10 @@ TEST(SkidsimPour, BadInputIsReportedWithANonZeroExit) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--site-m"), std::string::npos) << r.output;
 
+  r = run("pour --site-m 1e6 --cell-m 0.001 --out /tmp/skidsim_never");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("expected 3 to 16384"), std::string::npos) << r.output;
+
   r = run("pour --layer-m 1e10 --out /tmp/skidsim_never");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("layer-m"), std::string::npos) << r.output;
