@@ -98,8 +98,7 @@ MaterialLedger GranularGrid::ledger() const {
 std::size_t GranularGrid::scratch_bytes() const {
   return pending_.capacity() * sizeof(std::uint32_t) + current_.capacity() * sizeof(std::uint32_t) +
          changed_.capacity() * sizeof(std::uint32_t) + flux_.capacity() * sizeof(CellFlux) +
-         dense_out_.capacity() * sizeof(dense_out_[0]) + dense_changed_.capacity() * sizeof(std::uint32_t) +
-         row_q_.capacity() * sizeof(double);
+         dense_rows_.capacity() * sizeof(dense_rows_[0]) + row_q_.capacity() * sizeof(double);
 }
 
 void GranularGrid::wake(int cell) {
@@ -283,7 +282,11 @@ void GranularGrid::sweep() {
     sweep_dense();
     pending_all_ = mode_ != SweepMode::kSparse && changed_count_ * 8 > quanta_.size();
     if (pending_all_) return;  // the next sweep visits every cell anyway
-    changed_.assign(dense_changed_.begin(), dense_changed_.begin() + static_cast<std::ptrdiff_t>(changed_count_));
+    // Back to lists: after a dense sweep the cells that changed are exactly
+    // those flagged as flowing.
+    changed_.clear();
+    for (std::uint32_t c = 0; c < quanta_.size(); ++c)
+      if (flags_[c] & kFlowing) changed_.push_back(c);
   } else {
     sweep_sparse();
   }
@@ -352,79 +355,88 @@ void GranularGrid::sweep_dense() {
   for (std::uint32_t c : pending_) flags_[c] &= static_cast<std::uint8_t>(~kQueued);
   pending_.clear();
   pending_all_ = false;
-  const auto n = static_cast<std::uint32_t>(quanta_.size());
-  dense_out_.resize(n);
-  dense_fluxes();
-
-  // Gather: what a cell keeps plus what its four neighbours send it. Phase 1
-  // is over, so flags and surfaces are updated in place.
   const int nx = spec_.nx, ny = spec_.ny;
-  dense_changed_.resize(n);  // allocated once; written branch-free below
+  // The two phases are fused row by row: the fluxes of row j + 1 are computed
+  // (from rows j..j+2, still unchanged) before row j gathers what rows j - 1,
+  // j and j + 1 send it, so only three rows of fluxes are kept.
+  dense_rows_.resize(static_cast<std::size_t>(3) * nx);
+  const auto row_fluxes = [this, nx](int j) { return dense_rows_.data() + static_cast<std::size_t>(j % 3) * nx; };
+  changed_count_ = 0;
+  dense_row_fluxes(0, row_fluxes(0));
+  for (int j = 0; j < ny; ++j) {
+    if (j + 1 < ny) dense_row_fluxes(j + 1, row_fluxes(j + 1));
+    gather_row(j, j > 0 ? row_fluxes(j - 1) : nullptr, row_fluxes(j), j + 1 < ny ? row_fluxes(j + 1) : nullptr);
+  }
+  last_step_.cells_checked += static_cast<std::int64_t>(nx) * ny;
+}
+
+void GranularGrid::gather_row(int j, const std::array<std::int32_t, 4>* below,
+                              const std::array<std::int32_t, 4>* here, const std::array<std::int32_t, 4>* above) {
+  // What a cell keeps plus what its four neighbours send it. The row's own
+  // fluxes and those of the rows beside it are all computed, so its flags
+  // and surfaces are updated in place.
+  const int nx = spec_.nx;
+  const auto row = static_cast<std::uint32_t>(j * nx);
+  std::int64_t* __restrict quanta = quanta_.data() + row;
+  double* __restrict surface = surface_m_.data() + row;
+  const float* __restrict base = base_m_.data() + row;
+  std::uint8_t* __restrict flags = flags_.data() + row;
+  std::int64_t toppled = 0, moved = 0;
   std::size_t changed_count = 0;
-  const auto gather_edge_cell = [&](std::uint32_t c) {
-    const auto& out = dense_out_[c];
-    const std::int64_t sent = std::int64_t{out[0]} + out[1] + out[2] + out[3];
-    const std::uint8_t f = flags_[c];
-    std::int64_t received = 0;
-    if (!(f & kOnEdgeBit[1])) received += dense_out_[c - 1][0];
-    if (!(f & kOnEdgeBit[0])) received += dense_out_[c + 1][1];
-    if (!(f & kOnEdgeBit[3])) received += dense_out_[c - nx][2];
-    if (!(f & kOnEdgeBit[2])) received += dense_out_[c + nx][3];
-    for (int d = 0; d < 4; ++d)
-      if (f & kOnEdgeBit[d]) ledger_.off_site[kEdgeOfDirection[d]] += out[d];
-    last_step_.cells_toppled += sent != 0;
-    last_step_.moved_quanta += sent;
+  const auto gather = [&](int i, std::int64_t received) {
+    const std::int64_t sent = std::int64_t{here[i][0]} + here[i][1] + here[i][2] + here[i][3];
+    toppled += sent != 0;
+    moved += sent;
     const bool changed = (sent != 0) | (received != 0);
-    quanta_[c] += received - sent;
-    refresh_surface(static_cast<int>(c));
-    flags_[c] = static_cast<std::uint8_t>((f & ~kFlowing) | (changed ? kFlowing : 0));
-    dense_changed_[changed_count] = c;
+    const std::int64_t now = quanta[i] + received - sent;
+    quanta[i] = now;
+    surface[i] = base[i] + now * kHeightQuantumM;
+    flags[i] = static_cast<std::uint8_t>((flags[i] & ~kFlowing) | (changed ? kFlowing : 0));
     changed_count += changed;
   };
-  std::int64_t toppled = 0, moved = 0;
-  for (int j = 0; j < ny; ++j) {
-    const auto row = static_cast<std::uint32_t>(j * nx);
-    if (j == 0 || j == ny - 1 || nx < 3) {
-      for (int i = 0; i < nx; ++i) gather_edge_cell(row + static_cast<std::uint32_t>(i));
-      continue;
-    }
-    gather_edge_cell(row);
-    // Interior cells: no edges to test, no branches; plain pointers so the
-    // compiler need not reload the vectors' storage after every store.
-    const std::array<std::int32_t, 4>* __restrict out = dense_out_.data();
-    std::int64_t* __restrict quanta = quanta_.data();
-    double* __restrict surface = surface_m_.data();
-    const float* __restrict base = base_m_.data();
-    std::uint8_t* __restrict flags = flags_.data();
-    std::uint32_t* __restrict changed_list = dense_changed_.data();
-    for (std::uint32_t c = row + 1; c < row + static_cast<std::uint32_t>(nx) - 1; ++c) {
-      const std::int64_t sent = std::int64_t{out[c][0]} + out[c][1] + out[c][2] + out[c][3];
-      const std::int64_t received =
-          std::int64_t{out[c - 1][0]} + out[c + 1][1] + out[c - nx][2] + out[c + nx][3];
-      toppled += sent != 0;
-      moved += sent;
-      const bool changed = (sent != 0) | (received != 0);
-      const std::int64_t now = quanta[c] + received - sent;
-      quanta[c] = now;
-      surface[c] = base[c] + now * kHeightQuantumM;
-      flags[c] = static_cast<std::uint8_t>((flags[c] & ~kFlowing) | (changed ? kFlowing : 0));
-      changed_list[changed_count] = c;
-      changed_count += changed;
-    }
-    gather_edge_cell(row + static_cast<std::uint32_t>(nx) - 1);
+  // Cells on the grid's edges: neighbours may be missing, and what crosses an
+  // open edge goes off-site.
+  const auto gather_edge_cell = [&](int i) {
+    const std::uint8_t f = flags[i];
+    std::int64_t received = 0;
+    if (!(f & kOnEdgeBit[1])) received += here[i - 1][0];
+    if (!(f & kOnEdgeBit[0])) received += here[i + 1][1];
+    if (!(f & kOnEdgeBit[3])) received += below[i][2];
+    if (!(f & kOnEdgeBit[2])) received += above[i][3];
+    for (int d = 0; d < 4; ++d)
+      if (f & kOnEdgeBit[d]) ledger_.off_site[kEdgeOfDirection[d]] += here[i][d];
+    gather(i, received);
+  };
+  if (j == 0 || j == spec_.ny - 1 || nx < 3) {
+    for (int i = 0; i < nx; ++i) gather_edge_cell(i);
+  } else {
+    gather_edge_cell(0);
+    for (int i = 1; i < nx - 1; ++i)
+      gather(i, std::int64_t{here[i - 1][0]} + here[i + 1][1] + below[i][2] + above[i][3]);
+    gather_edge_cell(nx - 1);
   }
   last_step_.cells_toppled += toppled;
   last_step_.moved_quanta += moved;
-  changed_count_ = changed_count;
-  last_step_.cells_checked += n;
+  changed_count_ += changed_count;
 }
 
 // Phase 1 of the dense sweep. Inner rows go through a loop over cells that
 // the compiler vectorises (cloned for AVX2 where the processor has it); the
 // arithmetic per face is that of compute_flux, so results are bit-identical
 // (IEEE sqrt and division, no fused multiply-add: -ffp-contract=off).
-__attribute__((target_clones("avx2", "default"))) void GranularGrid::dense_fluxes() {
-  const int nx = spec_.nx, ny = spec_.ny;
+__attribute__((target_clones("avx2", "default"))) void GranularGrid::dense_row_fluxes(
+    int j, std::array<std::int32_t, 4>* out) {
+  const int nx = spec_.nx;
+  const auto row = static_cast<std::uint32_t>(j * nx);
+  CellFlux flux;
+  const auto edge_cell = [&](int i) {
+    compute_flux(row + static_cast<std::uint32_t>(i), face_geometry(row + static_cast<std::uint32_t>(i)), flux);
+    out[i] = flux.out;
+  };
+  if (j == 0 || j == spec_.ny - 1 || nx < 3) {
+    for (int i = 0; i < nx; ++i) edge_cell(i);
+    return;
+  }
   const double* h = surface_m_.data();
   const std::uint8_t* flags = flags_.data();
   const double inv_d = 1.0 / spec_.cell_size_m;
@@ -432,34 +444,20 @@ __attribute__((target_clones("avx2", "default"))) void GranularGrid::dense_fluxe
   const FlowLaw law = law_;
   row_q_.resize(static_cast<std::size_t>(4) * nx);
   double* q = row_q_.data();
-  CellFlux flux;
-  for (int j = 0; j < ny; ++j) {
-    const int row = j * nx;
-    if (j == 0 || j == ny - 1 || nx < 3) {
-      for (int i = 0; i < nx; ++i) {
-        compute_flux(static_cast<std::uint32_t>(row + i), face_geometry(static_cast<std::uint32_t>(row + i)), flux);
-        dense_out_[static_cast<std::size_t>(row + i)] = flux.out;
-      }
-      continue;
-    }
-    for (int i = 1; i < nx - 1; ++i) {
-      const int c = row + i;
-      const FaceGeometry g = face_geometry_from(h[c], h[c + 1], h[c - 1], h[c + nx], h[c - nx], h[c + 1 + nx],
-                                                h[c - 1 + nx], h[c + 1 - nx], h[c - 1 - nx]);
-      const double threshold2 = (flags[c] & kFlowing) ? stop2 : repose2;
-      q[4 * i + 0] = face_flux_quanta(g.drop[0], g.tangential[0], inv_d, threshold2, law);
-      q[4 * i + 1] = face_flux_quanta(g.drop[1], g.tangential[1], inv_d, threshold2, law);
-      q[4 * i + 2] = face_flux_quanta(g.drop[2], g.tangential[2], inv_d, threshold2, law);
-      q[4 * i + 3] = face_flux_quanta(g.drop[3], g.tangential[3], inv_d, threshold2, law);
-    }
-    std::array<std::int32_t, 4>* __restrict out = dense_out_.data() + row;
-    const std::int64_t* __restrict available = quanta_.data() + row;
-    for (int i = 1; i < nx - 1; ++i) out[i] = clamp_to_available(q + 4 * i, available[i]);
-    for (int i : {0, nx - 1}) {
-      compute_flux(static_cast<std::uint32_t>(row + i), face_geometry(static_cast<std::uint32_t>(row + i)), flux);
-      dense_out_[static_cast<std::size_t>(row + i)] = flux.out;
-    }
+  for (int i = 1; i < nx - 1; ++i) {
+    const int c = static_cast<int>(row) + i;
+    const FaceGeometry g = face_geometry_from(h[c], h[c + 1], h[c - 1], h[c + nx], h[c - nx], h[c + 1 + nx],
+                                              h[c - 1 + nx], h[c + 1 - nx], h[c - 1 - nx]);
+    const double threshold2 = (flags[c] & kFlowing) ? stop2 : repose2;
+    q[4 * i + 0] = face_flux_quanta(g.drop[0], g.tangential[0], inv_d, threshold2, law);
+    q[4 * i + 1] = face_flux_quanta(g.drop[1], g.tangential[1], inv_d, threshold2, law);
+    q[4 * i + 2] = face_flux_quanta(g.drop[2], g.tangential[2], inv_d, threshold2, law);
+    q[4 * i + 3] = face_flux_quanta(g.drop[3], g.tangential[3], inv_d, threshold2, law);
   }
+  const std::int64_t* __restrict available = quanta_.data() + row;
+  for (int i = 1; i < nx - 1; ++i) out[i] = clamp_to_available(q + 4 * i, available[i]);
+  edge_cell(0);
+  edge_cell(nx - 1);
 }
 
 // Phase 1 of the sparse sweep, in blocks of active cells: their face

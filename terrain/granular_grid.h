@@ -140,8 +140,8 @@ class GranularGrid {
 
   // Bytes of per-cell state: material quanta, base, the cached surface
   // height and the flags. The sweep's scratch comes on top (scratch_bytes()):
-  // about 20 bytes per active cell, and 20 bytes per cell of the grid once a
-  // sweep has been dense (more than 1/8 of the grid active).
+  // about 28 bytes per active cell for the lists; a dense sweep keeps only
+  // three rows.
   static constexpr std::size_t kStateBytesPerCell =
       sizeof(std::int64_t) + sizeof(float) + sizeof(double) + sizeof(std::uint8_t);
   std::size_t scratch_bytes() const;
@@ -185,7 +185,9 @@ class GranularGrid {
   // Rounds a cell's four face fluxes (quanta + 0.5) and scales them down to
   // what the cell holds.
   static std::array<std::int32_t, 4> clamp_to_available(const double q[4], std::int64_t available);
-  void dense_fluxes();
+  void dense_row_fluxes(int j, std::array<std::int32_t, 4>* out);
+  void gather_row(int j, const std::array<std::int32_t, 4>* below, const std::array<std::int32_t, 4>* here,
+                  const std::array<std::int32_t, 4>* above);
   void sparse_fluxes();
   static constexpr std::size_t kFluxBlock = 64;
 
@@ -200,10 +202,9 @@ class GranularGrid {
   std::vector<std::uint32_t> current_;  // cells examined in this sweep
   std::vector<std::uint32_t> changed_;
   std::vector<CellFlux> flux_;                   // sparse sweep: per active cell
-  std::vector<std::array<std::int32_t, 4>> dense_out_;  // dense sweep: per cell
-  std::vector<double> row_q_;                            // dense sweep: one row of face fluxes
-  std::vector<std::uint32_t> dense_changed_;             // dense sweep: cells changed, first changed_count_
-  std::size_t changed_count_ = 0;
+  std::vector<std::array<std::int32_t, 4>> dense_rows_;  // dense sweep: 3 rows of cell fluxes
+  std::vector<double> row_q_;                             // dense sweep: one row of face fluxes
+  std::size_t changed_count_ = 0;                         // dense sweep: cells changed
   SweepMode mode_ = SweepMode::kAuto;
   // After a dense sweep that changed many cells the next sweep is dense too:
   // the active set is then "every cell" and is not listed.
