@@ -290,13 +290,9 @@ void GranularGrid::sweep() {
   } else {
     sweep_sparse();
   }
-  // Flowing flags (4.5) and the next active set: only cells whose 3 x 3
-  // neighbourhood changed can become unstable, so a terrain at rest is empty.
-  for (std::uint32_t c : changed_) {
-    flags_[c] = static_cast<std::uint8_t>((flags_[c] & ~kChanged) | kFlowing);
-    refresh_surface(static_cast<int>(c));
-    wake(static_cast<int>(c));
-  }
+  // The next active set: only cells whose 3 x 3 neighbourhood changed can
+  // become unstable, so a terrain at rest is empty.
+  for (std::uint32_t c : changed_) wake(static_cast<int>(c));
 }
 
 void GranularGrid::sweep_sparse() {
@@ -346,6 +342,11 @@ void GranularGrid::sweep_sparse() {
   // Every flowing cell was changed in the previous sweep and so is in this
   // one's active set: clearing I here covers all cells that stopped.
   for (std::uint32_t c : current_) flags_[c] &= static_cast<std::uint8_t>(~kFlowing);
+  // Flowing flags (4.5) and surfaces of the cells that changed.
+  for (std::uint32_t c : changed_) {
+    flags_[c] = static_cast<std::uint8_t>((flags_[c] & ~kChanged) | kFlowing);
+    refresh_surface(static_cast<int>(c));
+  }
 }
 
 void GranularGrid::sweep_dense() {

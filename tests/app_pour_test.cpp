@@ -103,26 +103,20 @@ TEST(SkidsimPour, BadInputIsReportedWithANonZeroExit) {
   EXPECT_NE(r.output.find("dry_sand"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists("/tmp/skidsim_never/summary.json"));
 
-  r = run("pour --cell-m -1");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("cell-m"), std::string::npos) << r.output;
-
-  // Cells so small the avalanche sweep would need too many sub-steps.
-  r = run("pour --cell-m 0.001 --site-m 0.1 --out /tmp/skidsim_never");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.output.find("sub-steps"), std::string::npos) << r.output;
-
-  r = run("pour --site-m 0.01 --out /tmp/skidsim_never");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.output.find("--site-m"), std::string::npos) << r.output;
-
-  r = run("pour --site-m 1e6 --cell-m 0.001 --out /tmp/skidsim_never");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.output.find("expected 3 to 16384"), std::string::npos) << r.output;
-
-  r = run("pour --layer-m 1e10 --out /tmp/skidsim_never");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("layer-m"), std::string::npos) << r.output;
+  // Each bad option: a non-zero exit and a message that names the problem.
+  struct BadCase {
+    const char* args;
+    const char* says;
+  };
+  for (const BadCase& c : {BadCase{"--cell-m -1", "cell-m"},
+                           BadCase{"--cell-m 0.001 --site-m 0.1", "sub-steps"},  // sweep would need too many
+                           BadCase{"--site-m 0.01", "--site-m"},
+                           BadCase{"--site-m 1e6 --cell-m 0.001", "expected 3 to 16384"},
+                           BadCase{"--layer-m 1e10", "layer-m"}}) {
+    r = run(std::string("pour ") + c.args + " --out /tmp/skidsim_never");
+    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << ": " << r.output;
+  }
   EXPECT_FALSE(fs::exists("/tmp/skidsim_never"));
 
   const fs::path bad = fs::temp_directory_path() / "skidsim_bad_table.xml";
