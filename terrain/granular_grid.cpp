@@ -86,7 +86,56 @@ GranularGrid::GranularGrid(const GridSpec& spec, const SoilFlowParameters& soil,
 std::int64_t GranularGrid::total_quanta() const {
   std::int64_t total = 0;
   for (std::int64_t q : quanta_) total += q;
+  for (std::int64_t q : compacted_) total += q;
   return total;
+}
+
+void GranularGrid::set_covered(int cell, bool covered) {
+  const bool was = (flags_[cell] & kCovered) != 0;
+  if (was == covered) return;
+  flags_[cell] = static_cast<std::uint8_t>(covered ? (flags_[cell] | kCovered) : (flags_[cell] & ~kCovered));
+  covered_count_ += covered ? 1 : -1;
+  wake(cell);
+}
+
+std::int64_t GranularGrid::compact_quanta(int cell, std::int64_t quanta) {
+  const std::int64_t q = std::max<std::int64_t>(0, std::min(quanta, quanta_[cell]));
+  if (q == 0) return 0;
+  if (compacted_.empty()) compacted_.assign(quanta_.size(), 0);
+  quanta_[cell] -= q;
+  compacted_[cell] += q;
+  refresh_surface(cell);
+  wake(cell);
+  return q;
+}
+
+std::int64_t GranularGrid::transfer_quanta(int from, int to, std::int64_t quanta, Edge edge) {
+  const std::int64_t q = std::max<std::int64_t>(0, std::min(quanta, quanta_[from]));
+  if (q == 0) return 0;
+  quanta_[from] -= q;
+  refresh_surface(from);
+  wake(from);
+  if (to >= 0) {
+    quanta_[to] += q;
+    flags_[to] |= kFlowing;  // pushed material arrives moving (4.5)
+    refresh_surface(to);
+    wake(to);
+  } else {
+    ledger_.off_site[edge] += q;
+  }
+  return q;
+}
+
+void GranularGrid::block_covered_faces(std::uint32_t cell, FaceGeometry& g) const {
+  if (covered_count_ == 0) return;
+  const std::uint8_t f = flags_[cell];
+  if (f & kCovered) {
+    for (double& d : g.drop) d = 0.0;
+    return;
+  }
+  const int offset[4] = {1, -1, spec_.nx, -spec_.nx};
+  for (int d = 0; d < 4; ++d)
+    if (!(f & kOnEdgeBit[d]) && (flags_[cell + offset[d]] & kCovered)) g.drop[d] = 0.0;
 }
 
 MaterialLedger GranularGrid::ledger() const {
@@ -198,8 +247,10 @@ GranularGrid::FaceGeometry GranularGrid::face_geometry(std::uint32_t cell) const
   const int nx = spec_.nx;
   const double* h = surface_m_.data();
   if (!(f & kOnAnyEdge)) {
-    return face_geometry_from(h[cell], h[cell + 1], h[cell - 1], h[cell + nx], h[cell - nx], h[cell + 1 + nx],
-                              h[cell - 1 + nx], h[cell + 1 - nx], h[cell - 1 - nx]);
+    FaceGeometry g = face_geometry_from(h[cell], h[cell + 1], h[cell - 1], h[cell + nx], h[cell - nx],
+                                        h[cell + 1 + nx], h[cell - 1 + nx], h[cell + 1 - nx], h[cell - 1 - nx]);
+    block_covered_faces(cell, g);
+    return g;
   }
   const double here = h[cell];
   const bool xp = !(f & kOnEdgeBit[0]), xm = !(f & kOnEdgeBit[1]);
@@ -218,6 +269,7 @@ GranularGrid::FaceGeometry GranularGrid::face_geometry(std::uint32_t cell) const
   for (int d = 0; d < 4; ++d)
     if (f & kOnEdgeBit[d])
       g.drop[d] = spec_.edges[kEdgeOfDirection[d]] == EdgeKind::kOpen ? here - base_m_[cell] : 0.0;
+  block_covered_faces(cell, g);
   return g;
 }
 
@@ -445,10 +497,12 @@ __attribute__((target_clones("avx2", "default"))) void GranularGrid::dense_row_f
   const FlowLaw law = law_;
   row_q_.resize(static_cast<std::size_t>(4) * nx);
   double* q = row_q_.data();
+  const bool any_covered = covered_count_ != 0;
   for (int i = 1; i < nx - 1; ++i) {
     const int c = static_cast<int>(row) + i;
-    const FaceGeometry g = face_geometry_from(h[c], h[c + 1], h[c - 1], h[c + nx], h[c - nx], h[c + 1 + nx],
-                                              h[c - 1 + nx], h[c + 1 - nx], h[c - 1 - nx]);
+    FaceGeometry g = face_geometry_from(h[c], h[c + 1], h[c - 1], h[c + nx], h[c - nx], h[c + 1 + nx],
+                                        h[c - 1 + nx], h[c + 1 - nx], h[c - 1 - nx]);
+    if (any_covered) block_covered_faces(static_cast<std::uint32_t>(c), g);
     const double threshold2 = (flags[c] & kFlowing) ? stop2 : repose2;
     q[4 * i + 0] = face_flux_quanta(g.drop[0], g.tangential[0], inv_d, threshold2, law);
     q[4 * i + 1] = face_flux_quanta(g.drop[1], g.tangential[1], inv_d, threshold2, law);

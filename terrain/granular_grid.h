@@ -84,6 +84,8 @@ class GranularGrid {
 
   // State (4.1.3): base B, material h, surface H = B + h, flowing flag I.
   double base_m(int i, int j) const { return base_m_[index(i, j)]; }
+  // Loose material only: what the surface and the avalanches see. Material
+  // compacted under a body (compacted_m) is counted apart.
   double material_m(int i, int j) const { return quanta_[index(i, j)] * kHeightQuantumM; }
   double surface_m(int i, int j) const { return surface_m_[index(i, j)]; }
   std::int64_t material_quanta(int i, int j) const { return quanta_[index(i, j)]; }
@@ -97,6 +99,7 @@ class GranularGrid {
   double quantum_mass_kg() const { return quantum_volume_m3() * soil_.bulk_density_kg_m3; }
   // M = dx dy gamma h (4.1.3).
   double material_mass_kg(int i, int j) const { return quanta_[index(i, j)] * quantum_mass_kg(); }
+  // Loose plus compacted material, over all cells.
   std::int64_t total_quanta() const;
   double total_volume_m3() const { return total_quanta() * quantum_volume_m3(); }
   MaterialLedger ledger() const;
@@ -114,6 +117,26 @@ class GranularGrid {
   // the cell holds: a cell never goes below its base).
   double add_material_m3(int i, int j, double volume_m3);
   double remove_material_m3(int i, int j, double volume_m3);
+
+  // --- Soil-body interaction (terrain/soil_contact.h drives these) ---
+  // A cell a body covers completely: no avalanche flux crosses its faces
+  // (the body is in the way), in either direction.
+  void set_covered(int cell, bool covered);
+  bool covered(int cell) const { return (flags_[cell] & kCovered) != 0; }
+  // Compaction (Bekker plastic sinkage, thesis 5.4.1): loose material of the
+  // cell becomes compacted material, which keeps its mass (the ledger counts
+  // it in cells) but no longer stands in the column, so the surface drops.
+  // Limited to the loose material there; returns the quanta compacted.
+  std::int64_t compact_quanta(int cell, std::int64_t quanta);
+  // Height the cell's compacted material would have if loose again.
+  double compacted_m(int cell) const { return compacted_.empty() ? 0.0 : compacted_[cell] * kHeightQuantumM; }
+  // Loose material pushed by a body from one cell to another (5.7): exact,
+  // limited to what `from` holds; returns the quanta moved. `to` < 0 sends it
+  // off-site across `edge` (an open edge).
+  std::int64_t transfer_quanta(int from, int to, std::int64_t quanta, Edge edge = kEdgeXMin);
+  std::int64_t loose_quanta(int cell) const { return quanta_[cell]; }
+  double surface_at(int cell) const { return surface_m_[cell]; }
+  float base_at(int cell) const { return base_m_[cell]; }
 
   // One simulation step: law.substeps synchronous avalanche sweeps over the
   // active cells. Does not allocate once the active set has reached its
@@ -150,6 +173,7 @@ class GranularGrid {
   static constexpr std::uint8_t kFlowing = 1;  // I (4.5)
   static constexpr std::uint8_t kQueued = 2;   // in pending_
   static constexpr std::uint8_t kChanged = 4;  // changed in this sweep
+  static constexpr std::uint8_t kCovered = 128;  // a body fills the cell
 
   // Outflow of one active cell towards its neighbours +x, -x, +y, -y.
   struct CellFlux {
@@ -181,6 +205,8 @@ class GranularGrid {
              (e + se - w - sw) * 0.25}};
   }
   FaceGeometry face_geometry(std::uint32_t cell) const;  // any cell, edges included
+  // No drop across a face of, or towards, a covered cell.
+  void block_covered_faces(std::uint32_t cell, FaceGeometry& g) const;
   void compute_flux(std::uint32_t cell, const FaceGeometry& g, CellFlux& flux) const;
   // Rounds a cell's four face fluxes (quanta + 0.5) and scales them down to
   // what the cell holds.
@@ -198,6 +224,8 @@ class GranularGrid {
   std::vector<float> base_m_;
   std::vector<double> surface_m_;  // base + material, kept in step with both
   std::vector<std::uint8_t> flags_;
+  std::vector<std::int64_t> compacted_;  // allocated by the first compaction
+  std::int64_t covered_count_ = 0;      // cells with kCovered: zero keeps the sweep's fast path
   std::vector<std::uint32_t> pending_;  // cells to examine in the next sweep
   std::vector<std::uint32_t> current_;  // cells examined in this sweep
   std::vector<std::uint32_t> changed_;

@@ -1,0 +1,128 @@
+#include "terrain/body_shapes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace skidsim::terrain {
+
+const Eigen::Matrix3d& OrientedBox::rotation() const {
+  if (orientation.coeffs() != rotation_of_) {
+    rotation_ = orientation.toRotationMatrix();
+    rotation_of_ = orientation.coeffs();
+  }
+  return rotation_;
+}
+
+Eigen::AlignedBox3d OrientedBox::world_bounds() const {
+  const Eigen::Matrix3d& r = rotation();
+  const Eigen::Vector3d reach = r.cwiseAbs() * half_extents_m;
+  return {centre_m - reach, centre_m + reach};
+}
+
+bool OrientedBox::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const {
+  // Slab test of the vertical line p(t) = (x, y, t) in the box frame:
+  // p_box(t) = a + t u.
+  const Eigen::Matrix3d& r = rotation();
+  const Eigen::Vector3d a = r.transpose() * (Eigen::Vector3d(x_m, y_m, 0.0) - centre_m);
+  const Eigen::Vector3d u = r.transpose().col(2);
+  double t_in = -std::numeric_limits<double>::infinity(), t_out = std::numeric_limits<double>::infinity();
+  int entry_axis = 2;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(u[k]) < 1e-12) {
+      if (std::abs(a[k]) > half_extents_m[k]) return false;
+      continue;
+    }
+    double t0 = (-half_extents_m[k] - a[k]) / u[k], t1 = (half_extents_m[k] - a[k]) / u[k];
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > t_in) {
+      t_in = t0;
+      entry_axis = k;
+    }
+    t_out = std::min(t_out, t1);
+  }
+  const double lo = std::max(t_in, z_low_m), hi = std::min(t_out, z_high_m);
+  if (lo > hi) return false;
+  hit->z_m = lo;
+  // Entering from below through the face of the entry axis: its outward
+  // normal points against the ray.
+  Eigen::Vector3d n_box = Eigen::Vector3d::Zero();
+  n_box[entry_axis] = u[entry_axis] > 0.0 ? -1.0 : 1.0;
+  hit->normal = r * n_box;
+  return true;
+}
+
+Eigen::AlignedBox3d Sphere::world_bounds() const {
+  return {centre_m - Eigen::Vector3d::Constant(radius_m), centre_m + Eigen::Vector3d::Constant(radius_m)};
+}
+
+bool Sphere::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const {
+  const double dx = x_m - centre_m.x(), dy = y_m - centre_m.y();
+  const double r2 = radius_m * radius_m - dx * dx - dy * dy;
+  if (r2 < 0.0) return false;
+  const double half = std::sqrt(r2);
+  const double lo = std::max(centre_m.z() - half, z_low_m), hi = std::min(centre_m.z() + half, z_high_m);
+  if (lo > hi) return false;
+  hit->z_m = lo;
+  hit->normal = (Eigen::Vector3d(x_m, y_m, lo) - centre_m) / radius_m;
+  return true;
+}
+
+void TriangleMesh::update() {
+  world_.resize(vertices_body_m.size());
+  bounds_.setEmpty();
+  for (std::size_t k = 0; k < vertices_body_m.size(); ++k) {
+    world_[k] = pose * vertices_body_m[k];
+    bounds_.extend(world_[k]);
+  }
+  footprints_.resize(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    Eigen::AlignedBox2d b;
+    for (int k = 0; k < 3; ++k) b.extend(world_[triangles[t][k]].head<2>());
+    footprints_[t] = b;
+  }
+}
+
+bool TriangleMesh::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const {
+  const Eigen::Vector2d q(x_m, y_m);
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_normal = Eigen::Vector3d::UnitZ();
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    if (!footprints_[t].contains(q)) continue;
+    const Eigen::Vector3d& a = world_[triangles[t][0]];
+    const Eigen::Vector3d& b = world_[triangles[t][1]];
+    const Eigen::Vector3d& c = world_[triangles[t][2]];
+    // Barycentric coordinates of q in the triangle's footprint.
+    const Eigen::Vector2d e1 = (b - a).head<2>(), e2 = (c - a).head<2>(), w = q - a.head<2>();
+    const double det = e1.x() * e2.y() - e1.y() * e2.x();
+    if (std::abs(det) < 1e-14) continue;  // a vertical triangle: no vertical line crosses it
+    const double s = (w.x() * e2.y() - w.y() * e2.x()) / det, r = (e1.x() * w.y() - e1.y() * w.x()) / det;
+    if (s < 0.0 || r < 0.0 || s + r > 1.0) continue;
+    const double z = a.z() + s * (b.z() - a.z()) + r * (c.z() - a.z());
+    if (z < z_low_m || z > z_high_m || z >= best) continue;
+    best = z;
+    best_normal = (b - a).cross(c - a).normalized();
+  }
+  if (!std::isfinite(best)) return false;
+  // The first crossing above z_low leaves the body (an upward face): z_low
+  // itself is inside.
+  hit->z_m = best_normal.z() > 0.0 ? z_low_m : best;
+  hit->normal = best_normal;
+  return true;
+}
+
+TriangleMesh TriangleMesh::box(const Eigen::Vector3d& h) {
+  TriangleMesh m;
+  for (int k = 0; k < 8; ++k)
+    m.vertices_body_m.emplace_back((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
+  // Two counter-clockwise triangles per face, seen from outside.
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : faces) {
+    m.triangles.emplace_back(f[0], f[1], f[2]);
+    m.triangles.emplace_back(f[0], f[2], f[3]);
+  }
+  m.update();
+  return m;
+}
+
+}  // namespace skidsim::terrain

@@ -1,0 +1,63 @@
+// Analytic collision shapes behind the BodyGeometry query: an oriented box,
+// a sphere and a triangle mesh. Tests and tools use them; the engine uses
+// Bullet's shapes through the same interface.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+#include "terrain/body_geometry.h"
+
+namespace skidsim::terrain {
+
+// A box of half extents `half_extents_m` centred at `centre_m`, rotated by
+// `orientation` (body to world).
+struct OrientedBox final : BodyGeometry {
+  Eigen::Vector3d centre_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d half_extents_m = Eigen::Vector3d::Constant(0.5);
+
+  Eigen::AlignedBox3d world_bounds() const override;
+  bool lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const override;
+
+ private:
+  // The rotation matrix of `orientation`, rebuilt when it changes.
+  const Eigen::Matrix3d& rotation() const;
+  mutable Eigen::Matrix3d rotation_ = Eigen::Matrix3d::Identity();
+  mutable Eigen::Vector4d rotation_of_ = Eigen::Vector4d(0.0, 0.0, 0.0, 1.0);
+};
+
+struct Sphere final : BodyGeometry {
+  Eigen::Vector3d centre_m = Eigen::Vector3d::Zero();
+  double radius_m = 0.5;
+
+  Eigen::AlignedBox3d world_bounds() const override;
+  bool lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const override;
+};
+
+// A closed triangle mesh with outward (counter-clockwise) winding, placed by
+// a rigid transform. Brute force over the triangles whose footprint holds
+// the query point: meant for tool meshes of tens to hundreds of triangles.
+struct TriangleMesh final : BodyGeometry {
+  std::vector<Eigen::Vector3d> vertices_body_m;
+  std::vector<Eigen::Vector3i> triangles;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // body to world
+
+  // Caches world vertices and per-triangle bounds; call after changing the
+  // pose or the mesh.
+  void update();
+  Eigen::AlignedBox3d world_bounds() const override { return bounds_; }
+  bool lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const override;
+
+  // A box as 12 triangles (for tests that compare mesh and box).
+  static TriangleMesh box(const Eigen::Vector3d& half_extents_m);
+
+ private:
+  std::vector<Eigen::Vector3d> world_;
+  std::vector<Eigen::AlignedBox2d> footprints_;
+  Eigen::AlignedBox3d bounds_;
+};
+
+}  // namespace skidsim::terrain

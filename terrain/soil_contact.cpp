@@ -1,0 +1,433 @@
+#include "terrain/soil_contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace skidsim::terrain {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kFullyCovered = 1.0 - 1e-9;
+constexpr int kStep[kFaceCount][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+
+double radians(double deg) { return deg * kPi / 180.0; }
+
+// Speed of a point along face direction f (+x, -x, +y, -y).
+double along(const Eigen::Vector3d& v, int f) {
+  return f == 0 ? v.x() : f == 1 ? -v.x() : f == 2 ? v.y() : -v.y();
+}
+
+// Integral over u in [u0, u1] of max(0, a - t u), t > 0: the section of soil
+// above a plane rising at slope t, for a surface a above the plane's foot.
+double clipped_section(double a, double t, double u0, double u1) {
+  if (a <= t * u0) return 0.0;
+  const double hi = std::min(u1, a / t);
+  return a * (hi - u0) - 0.5 * t * (hi * hi - u0 * u0);
+}
+
+}  // namespace
+
+SoilContactModel::SoilContactModel(GranularGrid& grid, const SoilMechanics& soil) : grid_(grid), soil_(soil) {
+  validate(soil_);
+  phi_rad_ = radians(soil_.friction_angle_deg);
+  tan_tool_friction_ = std::tan(radians(soil_.tool_friction_angle_deg));
+  rho_table_ = WedgeAngleTable(phi_rad_);
+}
+
+void SoilContactModel::release(int body_id) {
+  if (body_id < 0 || body_id >= static_cast<int>(bodies_.size())) return;
+  BodyState& state = bodies_[body_id];
+  for (std::uint32_t c : state.covered) grid_.set_covered(static_cast<int>(c), false);
+  state.covered.clear();
+  state.map.clear();
+  state.next.clear();
+  state.in_contact = false;
+}
+
+void SoilContactModel::update_covered(BodyState& state) {
+  // Cells covered now vs. before; both lists in increasing cell order.
+  std::size_t k = 0;
+  const std::vector<std::uint32_t>& before = state.covered;
+  std::vector<std::uint32_t> now;
+  now.swap(covered_scratch_);
+  now.clear();
+  for (const CellContact& c : state.next.cells)
+    if (c.covered_fraction >= kFullyCovered) now.push_back(c.cell);
+  std::size_t n = 0;
+  while (k < before.size() || n < now.size()) {
+    if (n >= now.size() || (k < before.size() && before[k] < now[n])) {
+      grid_.set_covered(static_cast<int>(before[k++]), false);
+    } else if (k >= before.size() || now[n] < before[k]) {
+      grid_.set_covered(static_cast<int>(now[n++]), true);
+    } else {
+      ++k;
+      ++n;
+    }
+  }
+  covered_scratch_.swap(state.covered);
+  state.covered.swap(now);
+}
+
+double SoilContactModel::free_surface_m(int cell, double covered_fraction, double covered_level_m) const {
+  const double surface = grid_.surface_at(cell);
+  if (covered_fraction >= kFullyCovered) return surface;
+  return (surface - covered_fraction * covered_level_m) / (1.0 - covered_fraction);
+}
+
+void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double modulus_Pa, BodyReaction& out) {
+  const int cell = static_cast<int>(c.cell);
+  const double d = grid_.cell_size_m();
+  const double area = c.covered_fraction * d * d;
+  const bool full = c.covered_fraction >= kFullyCovered;
+  const double level = full ? grid_.surface_at(cell) : c.covered_level_m;
+  const double compacted = grid_.compacted_m(cell);
+  // Sinkage of the covered part from its undisturbed level: the compacted
+  // material (spread over the cell as f z_p) counted back.
+  const double sinkage = level + compacted / c.covered_fraction - c.bottom_z_m;
+  double pressure = 0.0, slope = 0.0;
+  if (soil_.model == VerticalLoadModel::kBekker) {
+    const double peak = peak_[cell];
+    const PressureSlope ps = bekker_pressure(soil_, modulus_Pa, peak, sinkage);
+    pressure = ps.pressure_Pa;
+    slope = ps.slope_Pa_per_m;
+    if (sinkage > peak) {
+      // Loading: the plastic part of the new peak stays (5.4.1, d_p into z),
+      // z_max - p(z_max) / k_u.
+      peak_[cell] = static_cast<float>(sinkage);
+      const double plastic = std::max(0.0, sinkage - pressure / unload_stiffness_Pa_per_m(soil_, sinkage));
+      const double target = c.covered_fraction * plastic;
+      if (target > compacted) {
+        const auto quanta = static_cast<std::int64_t>((target - compacted) / kHeightQuantumM);
+        const std::int64_t done = grid_.compact_quanta(cell, quanta);
+        out.compacted_m3 += done * grid_.quantum_volume_m3();
+        if (!full) c.covered_level_m -= done * kHeightQuantumM / c.covered_fraction;
+      }
+    }
+  } else {
+    // Incompressible (5.3): a stiff elastic contact on the penetration; the
+    // load pushes material out from under the body (push_out_under_load).
+    const double k_e = 1000.0 * soil_.unload_k0_kPa_per_m;
+    pressure = k_e * std::max(level - c.bottom_z_m, 0.0);
+    slope = k_e;
+  }
+  const double sink_rate = -c.velocity_m_s.z();
+  double damping = 0.0;
+  if (pressure > 0.0) {
+    damping = 1000.0 * soil_.damping_kPa_s_per_m;
+    pressure = std::max(0.0, pressure + damping * sink_rate);
+  }
+  const double base_penetration = static_cast<double>(grid_.base_at(cell)) - c.bottom_z_m;
+  double base_force = 0.0, base_stiffness = 0.0;
+  if (base_penetration > 0.0) {
+    base_stiffness = 1000.0 * soil_.base_stiffness_kPa_per_m * area;
+    base_force = base_stiffness * base_penetration;
+    out.base_penetration_m = std::max(out.base_penetration_m, base_penetration);
+  }
+  const double vertical = pressure * area + base_force;
+  // The pressure acts along the body's face normal; its vertical part is the
+  // pressure on the projected area (tilt capped so a steep face cannot
+  // produce an unbounded side force).
+  const double up = std::max(-c.normal.z(), 0.25);
+  Eigen::Vector3d force = Eigen::Vector3d(-c.normal.x(), -c.normal.y(), up) * (vertical / up);
+  if (-c.normal.z() <= 0.0) force = Eigen::Vector3d(0.0, 0.0, vertical);
+  out.force_N += force;
+  out.torque_Nm += (c.point_m - motion.reference_point_m).cross(force);
+  out.normal_stiffness_N_per_m += slope * area + base_stiffness;
+  out.normal_damping_N_s_per_m += damping * area;
+  // Mohr-Coulomb on the soil-tool contact (5.4.2): (a + sigma_n tan delta) A.
+  out.shear_bound_N += 1000.0 * soil_.tool_adhesion_kPa * area + vertical * tan_tool_friction_;
+  out.shear_point_m += vertical * c.point_m;
+  out.contact_area_m2 += area;
+  if (soil_.model == VerticalLoadModel::kIncompressible && vertical > 0.0) push_out_under_load(c, vertical);
+}
+
+void SoilContactModel::push_out_under_load(const CellContact& c, double load_N) {
+  // (5.3)-(5.5): the load raises the cell's apparent surface by
+  // Phi = eta f_z / (d^2 gamma g); where that makes the slope to a free
+  // neighbour steeper than the repose angle, material flows out with the
+  // automaton's own law.
+  const int cell = static_cast<int>(c.cell);
+  const double d = grid_.cell_size_m();
+  const FlowLaw& law = grid_.flow_law();
+  const double phi_m =
+      soil_.load_eta * load_N / (d * d * grid_.soil().bulk_density_kg_m3 * kGravity_m_s2);
+  const double apparent = grid_.surface_at(cell) + phi_m;
+  const int i = cell % grid_.nx(), j = cell / grid_.nx();
+  double moved[kFaceCount] = {0.0, 0.0, 0.0, 0.0};
+  double total = 0.0;
+  for (int f = 0; f < kFaceCount; ++f) {
+    const int ni = i + kStep[f][0], nj = j + kStep[f][1];
+    if (!grid_.contains(ni, nj)) continue;
+    const int n = grid_.index(ni, nj);
+    if (grid_.covered(n)) continue;
+    const double slope = (apparent - grid_.surface_at(n)) / d;
+    if (slope <= law.tan_repose) continue;
+    moved[f] = law.moved_height_m(slope);
+    total += moved[f];
+  }
+  if (total <= 0.0) return;
+  const double available = grid_.loose_quanta(cell) * kHeightQuantumM;
+  const double scale = total > available ? available / total : 1.0;
+  for (int f = 0; f < kFaceCount; ++f) {
+    if (moved[f] <= 0.0) continue;
+    const int n = grid_.index(i + kStep[f][0], j + kStep[f][1]);
+    grid_.transfer_quanta(cell, n, static_cast<std::int64_t>(moved[f] * scale / kHeightQuantumM));
+  }
+}
+
+bool SoilContactModel::interface_at(const CellContact& c, int f, Interface* out) const {
+  const double d = grid_.cell_size_m();
+  const int cell = static_cast<int>(c.cell);
+  const int i = cell % grid_.nx() + kStep[f][0], j = cell / grid_.nx() + kStep[f][1];
+  if (c.interface_w_m[f] > 0.0) {
+    out->s_m = c.interface_s_m[f];
+    out->w_m = c.interface_w_m[f];
+    out->depth_m = free_surface_m(cell, c.covered_fraction, c.covered_level_m) - c.bottom_z_m;
+  } else {
+    // A fully covered cell whose neighbour the body does not touch: the
+    // interface lies on the cell edge.
+    if (c.covered_fraction < kFullyCovered || !grid_.contains(i, j)) return false;
+    if (map_slot(i, j) >= 0) return false;
+    out->s_m = d;
+    out->w_m = d;
+    out->depth_m = grid_.surface_at(grid_.index(i, j)) - c.bottom_z_m;
+  }
+  return out->depth_m > 0.0;
+}
+
+double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface& face, double rho_rad) {
+  // The fracture plane rises at rho from the interface's foot (fig. 5.15);
+  // u is the horizontal distance from the interface.
+  const double d = grid_.cell_size_m();
+  const double t = std::tan(rho_rad);
+  const double length_cap = 2.0 * face.depth_m / t;
+  const int cell = static_cast<int>(c.cell);
+  wedge_cells_.clear();
+  wedge_area_.clear();
+  // The free part of the interface's own cell.
+  double u = d - face.s_m;
+  double total = clipped_section(face.depth_m, t, 0.0, u);
+  int i = cell % grid_.nx(), j = cell / grid_.nx();
+  while (u < length_cap) {
+    i += kStep[f][0];
+    j += kStep[f][1];
+    if (!grid_.contains(i, j)) break;
+    const int n = grid_.index(i, j);
+    if (grid_.covered(n)) break;
+    const double a = grid_.surface_at(n) - c.bottom_z_m;
+    const double section = clipped_section(a, t, u, u + d);
+    wedge_cells_.push_back(n);
+    wedge_area_.push_back(section);
+    total += section;
+    u += d;
+    if (a < t * u) break;  // the plane came out within this cell (d_{M+1} < 0)
+  }
+  return total;
+}
+
+void SoilContactModel::push_material(const Push& push, const CellContact& c) {
+  // (5.7): the material in the volume the interface swept slides up the
+  // fracture plane; it lands on the wedge's cells in proportion to the soil
+  // each holds above the plane (the cells under the fracture rise).
+  Interface face;
+  if (!interface_at(c, push.direction, &face)) {
+    face.s_m = grid_.cell_size_m();
+    face.depth_m = std::max(push.height_m, grid_.cell_size_m());
+  }
+  walk_wedge(c, push.direction, face, rho_table_.rho_rad(0.0));
+  const auto quanta = static_cast<std::int64_t>(push.height_m / kHeightQuantumM);
+  const int cell = static_cast<int>(c.cell);
+  if (wedge_cells_.empty()) {
+    // Nothing in front but the grid's edge: off-site over an open edge.
+    const int i = cell % grid_.nx() + kStep[push.direction][0], j = cell / grid_.nx() + kStep[push.direction][1];
+    if (grid_.contains(i, j)) return;  // a covered neighbour: the body holds it
+    static constexpr Edge kEdgeOfFace[kFaceCount] = {kEdgeXMax, kEdgeXMin, kEdgeYMax, kEdgeYMin};
+    const Edge edge = kEdgeOfFace[push.direction];
+    if (grid_.spec().edges[edge] == EdgeKind::kOpen) grid_.transfer_quanta(cell, -1, quanta, edge);
+    return;
+  }
+  double total = 0.0;
+  for (double a : wedge_area_) total += a;
+  const std::int64_t available = std::min(quanta, grid_.loose_quanta(cell));
+  std::int64_t left = available;
+  for (std::size_t k = 0; k < wedge_cells_.size(); ++k) {
+    std::int64_t share = total > 0.0 ? static_cast<std::int64_t>(available * (wedge_area_[k] / total)) : 0;
+    if (k == 0) share = total > 0.0 ? share : available;
+    share = std::min(share, left);
+    left -= grid_.transfer_quanta(cell, wedge_cells_[k], share);
+  }
+  if (left > 0) grid_.transfer_quanta(cell, wedge_cells_[0], left);
+}
+
+void SoilContactModel::index_map(const ContactMap& map) {
+  // A small lookup over the map's bounds (contact-sized, not grid-sized).
+  slot_i0_ = slot_j0_ = 0;
+  slot_ni_ = slot_nj_ = 0;
+  if (map.cells.empty()) return;
+  int i0 = grid_.nx(), i1 = -1;
+  for (const CellContact& c : map.cells) {
+    const int i = static_cast<int>(c.cell) % grid_.nx();
+    i0 = std::min(i0, i);
+    i1 = std::max(i1, i);
+  }
+  slot_i0_ = i0;
+  slot_j0_ = static_cast<int>(map.cells.front().cell) / grid_.nx();
+  slot_ni_ = i1 - i0 + 1;
+  slot_nj_ = static_cast<int>(map.cells.back().cell) / grid_.nx() - slot_j0_ + 1;
+  slots_.assign(static_cast<std::size_t>(slot_ni_) * slot_nj_, -1);
+  for (std::size_t k = 0; k < map.cells.size(); ++k) {
+    const int cell = static_cast<int>(map.cells[k].cell);
+    slots_[static_cast<std::size_t>(cell / grid_.nx() - slot_j0_) * slot_ni_ + (cell % grid_.nx() - slot_i0_)] =
+        static_cast<int>(k);
+  }
+}
+
+int SoilContactModel::map_slot(int i, int j) const {
+  i -= slot_i0_;
+  j -= slot_j0_;
+  if (i < 0 || j < 0 || i >= slot_ni_ || j >= slot_nj_) return -1;
+  return slots_[static_cast<std::size_t>(j) * slot_ni_ + i];
+}
+
+void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out) {
+  const double gamma_g = grid_.soil().bulk_density_kg_m3 * kGravity_m_s2;
+  const double d = grid_.cell_size_m();
+  interfaces_.clear();
+  for (std::size_t k = 0; k < map.cells.size(); ++k) {
+    Interface face;
+    for (int f = 0; f < kFaceCount; ++f)
+      if (interface_at(map.cells[k], f, &face)) interfaces_.push_back({static_cast<int>(k), f, face});
+  }
+  for (int f = 0; f < kFaceCount; ++f) {
+    double width = 0.0, depth_width = 0.0;
+    for (const FaceRef& r : interfaces_) {
+      if (r.direction != f) continue;
+      width += r.face.w_m;
+      depth_width += r.face.w_m * r.face.depth_m;
+    }
+    if (width <= 0.0) continue;
+    WedgeReaction& w = out.wedge[f];
+    w.width_m = width;
+    w.depth_m = depth_width / width;
+    w.rho_rad = rho_table_.rho_rad(w.depth_m / width);
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    for (const FaceRef& r : interfaces_) {
+      if (r.direction != f) continue;
+      const CellContact& c = map.cells[r.contact];
+      const Interface& face = r.face;
+      w.weight_N += gamma_g * face.w_m * walk_wedge(c, f, face, w.rho_rad);
+      // The interface: from the cell edge behind it, s along the direction.
+      const int cell = static_cast<int>(c.cell);
+      const Eigen::Vector2d centre =
+          grid_.spec().origin_m + d * Eigen::Vector2d(cell % grid_.nx(), cell / grid_.nx());
+      Eigen::Vector3d p = c.point_m;
+      const double offset = face.s_m - 0.5 * d;
+      if (f < 2) p.x() = centre.x() + (f == 0 ? offset : -offset);
+      else p.y() = centre.y() + (f == 2 ? offset : -offset);
+      p.z() = c.bottom_z_m + face.depth_m / 3.0;  // a third of the interface height (5.5.2)
+      point += face.w_m * p;
+    }
+    w.point_m = point / width;
+    const double side = wedge_side_friction_N(phi_rad_, w.rho_rad, grid_.soil().bulk_density_kg_m3, w.depth_m);
+    w.bound_N = wedge_limit_N(phi_rad_, w.rho_rad, w.weight_N, side);
+  }
+}
+
+void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
+  if (body_id < 0) throw std::invalid_argument("SoilContactModel::embed: body_id must be >= 0");
+  if (body_id >= static_cast<int>(bodies_.size())) bodies_.resize(body_id + 1);
+  BodyState& state = bodies_[body_id];
+  mapper_.build(grid_, body, motion, &state.next);
+  update_covered(state);
+  for (CellContact& c : state.next.cells) {
+    const int cell = static_cast<int>(c.cell);
+    const double compacted = grid_.compacted_m(cell);
+    c.covered_level_m =
+        std::min(grid_.surface_at(cell) + compacted - compacted / c.covered_fraction, c.bottom_z_m);
+  }
+  std::swap(state.map, state.next);
+  state.in_contact = !state.map.cells.empty();
+}
+
+BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
+  if (body_id < 0) throw std::invalid_argument("SoilContactModel::interact: body_id must be >= 0");
+  if (body_id >= static_cast<int>(bodies_.size())) bodies_.resize(body_id + 1);
+  BodyState& state = bodies_[body_id];
+  mapper_.build(grid_, body, motion, &state.next);
+  BodyReaction out;
+  const ContactMap& now = state.next;
+  index_map(now);
+  const ContactMap& before = state.map;
+  if (peak_.empty() && !now.cells.empty()) peak_.assign(static_cast<std::size_t>(grid_.nx()) * grid_.ny(), 0.0f);
+  update_covered(state);
+  const double modulus = bekker_modulus_Pa(soil_, now.footprint_b_m);
+
+  pushes_.clear();
+  std::size_t k = 0;
+  for (CellContact& c : state.next.cells) {
+    while (k < before.cells.size() && before.cells[k].cell < c.cell) ++k;
+    const CellContact* previous =
+        k < before.cells.size() && before.cells[k].cell == c.cell ? &before.cells[k] : nullptr;
+    const int cell = static_cast<int>(c.cell);
+    const double surface = grid_.surface_at(cell);
+    // A cell the body did not touch before: the level of its soil under the
+    // covered part, if the cell's compaction (an old imprint) lies there.
+    const double compacted = grid_.compacted_m(cell);
+    const double untouched_level = surface + compacted - compacted / c.covered_fraction;
+    double covered_before = 0.0, level_before = untouched_level;
+    if (previous) {
+      covered_before = previous->covered_fraction;
+      level_before = previous->covered_level_m;
+    }
+    const double free_before = free_surface_m(cell, covered_before, level_before);
+    // Advancing horizontally faster than sinking: the soil in the newly
+    // covered part is pushed ahead (5.5.3), and, as in the thesis, the
+    // advancing interface carries no vertical load this step.
+    int direction = -1;
+    double fastest = std::max(0.0, -c.velocity_m_s.z());
+    for (int f = 0; f < kFaceCount; ++f) {
+      if (along(c.velocity_m_s, f) > fastest) {
+        fastest = along(c.velocity_m_s, f);
+        direction = f;
+      }
+    }
+    const double gained = c.covered_fraction - covered_before;
+    // (5.7) over the whole swept area: the swept fraction of the cell times
+    // the soil standing above the body's underside in the free part. A
+    // change of cell (5.5.3) is this cell filling up and the next one
+    // starting: both are counted.
+    const double pushed = direction >= 0 && gained > 0.0 ? gained * std::max(0.0, free_before - c.bottom_z_m) : 0.0;
+    // The covered part's level: the part covered before keeps its own, the
+    // newly covered part is at the underside where soil was pushed away,
+    // else at the free part's level.
+    c.covered_level_m = level_before;
+    if (gained > 0.0)
+      c.covered_level_m =
+          (covered_before * level_before +
+           gained * (pushed > 0.0 ? c.bottom_z_m : covered_before > 0.0 ? free_before : untouched_level)) /
+          c.covered_fraction;
+    if (pushed > 0.0) {
+      pushes_.push_back({c.cell, direction, pushed});
+      continue;
+    }
+    press(c, motion, modulus, out);
+  }
+  for (const Push& p : pushes_) {
+    const auto it = std::lower_bound(now.cells.begin(), now.cells.end(), p.cell,
+                                     [](const CellContact& c, std::uint32_t cell) { return c.cell < cell; });
+    const std::int64_t before_push = grid_.loose_quanta(static_cast<int>(p.cell));
+    push_material(p, *it);
+    out.displaced_m3 += (before_push - grid_.loose_quanta(static_cast<int>(p.cell))) * grid_.quantum_volume_m3();
+  }
+  wedge_reactions(now, out);
+
+  const double vertical = out.force_N.z();
+  out.shear_point_m = vertical > 0.0 ? Eigen::Vector3d(out.shear_point_m / vertical) : motion.reference_point_m;
+  out.contact_cells = static_cast<int>(now.cells.size());
+  std::swap(state.map, state.next);
+  state.in_contact = !state.map.cells.empty();
+  return out;
+}
+
+}  // namespace skidsim::terrain

@@ -1,0 +1,163 @@
+// Terrain-body interaction (thesis ch. 5, TERRAIN_MODEL.md s. 3): each step,
+// for each body near the soil, build its contact map, let the soil carry and
+// resist the body, and change the terrain under it:
+//   - vertical load: Bekker pressure-sinkage (3.19) with an elastic/plastic
+//     split; the plastic part stays in the terrain as compacted material
+//     (ruts, imprints) and later loads follow Wong's stiffer reload line; or,
+//     for an incompressible soil, a stiff elastic contact whose load pushes
+//     material out from under the body (5.3-5.5);
+//   - tangential: the Mohr-Coulomb bound on the shear the contact carries
+//     (5.4.2);
+//   - horizontal push: the fracture wedge limit (5.6) of every vertical
+//     interface, a bounded reaction applied at a third of its height, and the
+//     material an advancing interface displaces (5.7, 5.8), moved into the
+//     wedge in front of it;
+//   - the hard base under the soil as a very stiff contact.
+// Forces come back as a wrench plus the linearisation and bounds a multibody
+// engine needs to apply them stably at 2 ms (see BodyReaction).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "terrain/body_geometry.h"
+#include "terrain/contact_map.h"
+#include "terrain/granular_grid.h"
+#include "terrain/soil_mechanics.h"
+
+namespace skidsim::terrain {
+
+// The fracture wedge in front of the interfaces that face one direction.
+struct WedgeReaction {
+  // Largest horizontal force (N) the soil resists with before it fails and
+  // the body advances, pushing soil (5.5.2). Zero: no interface that way.
+  double bound_N = 0.0;
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  // at a third of the interface height
+  double depth_m = 0.0;   // H, width-weighted over the interfaces
+  double width_m = 0.0;   // B, the interfaces' total width
+  double weight_N = 0.0;  // W, the soil in the wedge
+  double rho_rad = 0.0;   // angle of the fracture plane
+};
+
+// What the soil does to one body in one step.
+//
+// How an engine applies it at 2 ms: `force_N` / `torque_Nm` are the soil's
+// pressure at the current state (explicit). Its change with the body's
+// vertical motion is `normal_stiffness_N_per_m` (per metre of further
+// sinkage) and `normal_damping_N_s_per_m`; applying these implicitly (for
+// example, with F taken at the current velocity v,
+// v' = (m v + dt (F + C v + F_other)) / (m + dt (dt K + C)) along z) keeps
+// the stiff soil and hard-base contacts stable for any body mass.
+// Shear and wedge forces are bounded reactions, like static friction: the
+// engine lets them take whatever value keeps the body still, up to the
+// bound, in the direction that resists motion (a velocity constraint with
+// an impulse limit of bound * dt).
+struct BodyReaction {
+  Eigen::Vector3d force_N = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque_Nm = Eigen::Vector3d::Zero();  // about BodyMotion::reference_point_m
+  double normal_stiffness_N_per_m = 0.0;
+  double normal_damping_N_s_per_m = 0.0;
+  // Mohr-Coulomb (5.4.2): bound on the horizontal shear force, acting at
+  // `shear_point_m`, the centre of pressure.
+  double shear_bound_N = 0.0;
+  Eigen::Vector3d shear_point_m = Eigen::Vector3d::Zero();
+  // Per direction of motion +x, -x, +y, -y: the wedge that resists it.
+  std::array<WedgeReaction, kFaceCount> wedge{};
+  // Diagnostics.
+  double contact_area_m2 = 0.0;
+  double base_penetration_m = 0.0;  // deepest point of the body below the hard base
+  double displaced_m3 = 0.0;        // material pushed this step
+  double compacted_m3 = 0.0;        // material compacted this step
+  int contact_cells = 0;
+};
+
+class SoilContactModel {
+ public:
+  SoilContactModel(GranularGrid& grid, const SoilMechanics& soil);
+
+  // One body, one step (step 3 of ARCHITECTURE.md's 2 ms step): builds the
+  // body's contact map, updates the terrain under it and returns the soil's
+  // reaction. `body_id` >= 0 names the body across steps (its previous map
+  // tells how far its interfaces advanced). Allocates only while a body's
+  // contact grows beyond its largest size so far.
+  BodyReaction interact(int body_id, const BodyGeometry& body, const BodyMotion& motion);
+  // Places a body in the soil as if it had got there by itself: the soil
+  // under its covered parts is taken to be at its underside, so nothing is
+  // pressed or pushed by the placement (a blade started in its slot, a
+  // machine loaded with a saved terrain). The soil its volume overlaps is
+  // the caller's to remove.
+  void embed(int body_id, const BodyGeometry& body, const BodyMotion& motion);
+  // Forgets a body: its cells are no longer covered.
+  void release(int body_id);
+
+  const ContactMap& contact_map(int body_id) const { return bodies_.at(body_id).map; }
+  const SoilMechanics& soil() const { return soil_; }
+  // The largest sinkage (from the undisturbed surface) a load reached at a
+  // cell: the start of its reload line.
+  double peak_sinkage_m(int cell) const { return peak_.empty() ? 0.0 : peak_[cell]; }
+
+ private:
+  struct BodyState {
+    ContactMap map;    // this step's (after interact) or last step's
+    ContactMap next;   // being built
+    std::vector<std::uint32_t> covered;  // cells this body covers completely
+    bool in_contact = false;
+  };
+  struct Push {
+    std::uint32_t cell;
+    int direction;
+    double height_m;  // material to move, as a height over the cell
+  };
+
+  // A vertical interface of a contact cell on one side (5.2.3).
+  struct Interface {
+    double s_m = 0.0;      // covered length behind it, from the cell edge
+    double w_m = 0.0;      // width
+    double depth_m = 0.0;  // soil standing against it: H = d_0 at the interface
+  };
+
+  void update_covered(BodyState& state);
+  void press(CellContact& c, const BodyMotion& motion, double modulus_Pa, BodyReaction& out);
+  void push_out_under_load(const CellContact& c, double load_N);
+  void push_material(const Push& push, const CellContact& c);
+  void wedge_reactions(const ContactMap& map, BodyReaction& out);
+  bool interface_at(const CellContact& c, int direction, Interface* out) const;
+  // Level (m) of the free part of a partly covered cell (5.2.2: h2), given
+  // the level of its covered part: the cell's material is f h1 + (1 - f) h2.
+  double free_surface_m(int cell, double covered_fraction, double covered_level_m) const;
+  // Walks the fracture wedge in front of an interface: the soil above the
+  // plane rising at rho from the interface's foot, cell by cell, until the
+  // plane emerges or the wedge is twice its flat-ground length. Returns the
+  // wedge's section (m^2) and fills wedge_cells_ / wedge_area_ with the
+  // cells in front and their part of it.
+  double walk_wedge(const CellContact& c, int direction, const Interface& face, double rho_rad);
+
+  GranularGrid& grid_;
+  SoilMechanics soil_;
+  WedgeAngleTable rho_table_;
+  double phi_rad_ = 0.0;
+  double tan_tool_friction_ = 0.0;
+  std::vector<float> peak_;  // per cell, allocated at the first contact
+  std::vector<BodyState> bodies_;
+  ContactMapper mapper_;
+  // Where each cell of the map being worked on sits in it (index_map).
+  void index_map(const ContactMap& map);
+  int map_slot(int i, int j) const;  // -1: the body does not touch cell (i, j)
+  std::vector<int> slots_;
+  int slot_i0_ = 0, slot_j0_ = 0, slot_ni_ = 0, slot_nj_ = 0;
+  struct FaceRef {
+    int contact;    // index in the map
+    int direction;  // +x, -x, +y, -y
+    Interface face;
+  };
+  std::vector<FaceRef> interfaces_;
+  std::vector<Push> pushes_;
+  std::vector<std::uint32_t> covered_scratch_;  // spare covered-cell list
+  std::vector<int> wedge_cells_;
+  std::vector<double> wedge_area_;
+};
+
+}  // namespace skidsim::terrain

@@ -1,0 +1,107 @@
+// Soil mechanics for bodies touching the terrain (thesis ch. 5, design notes
+// TERRAIN_MODEL.md s. 3): Bekker pressure-sinkage with Wong's
+// unloading/reloading line, the Mohr-Coulomb shear bound, and the fracture
+// wedge limit of a vertical interface (Perumpral 1983 via Nouguier 2000).
+// Plain functions of plain data, SI units throughout.
+#pragma once
+
+#include <array>
+#include <string>
+
+namespace skidsim::terrain {
+
+enum class VerticalLoadModel {
+  kBekker,          // compressible: pressure from sinkage (3.19, 5.4.1)
+  kIncompressible,  // material flows out from under the load (5.3-5.5)
+};
+
+struct SoilMechanics {
+  VerticalLoadModel model = VerticalLoadModel::kBekker;
+  // Bekker (3.19): p = (k_c / b + k_phi) z^n; Wong's table in kN/m^(n+1) and
+  // kN/m^(n+2), so p comes out in kPa.
+  double n = 1.1;
+  double k_c_kN_per_m_n1 = 0.99;
+  double k_phi_kN_per_m_n2 = 1528.43;
+  // Wong's unloading/reloading line: from the largest sinkage z_max reached,
+  // p = p(z_max) - k_u (z_max - z) with k_u = k_0 + A_u z_max.
+  double unload_k0_kPa_per_m = 10000.0;
+  double unload_Au_kPa_per_m2 = 500000.0;
+  // Viscous part of the contact pressure, per m/s of sinkage rate (the
+  // damping of Chrono's SCM terrain; it stops a body ringing on the elastic
+  // line).
+  double damping_kPa_s_per_m = 30.0;
+  // Mohr-Coulomb of the soil (wedge, Janosi-Hanamoto) and of the soil-tool
+  // contact (5.4.2: tau_max = (a + sigma_n tan(delta)) A).
+  double cohesion_kPa = 1.04;
+  double friction_angle_deg = 28.0;
+  double shear_modulus_K_m = 0.025;
+  double tool_adhesion_kPa = 0.0;
+  double tool_friction_angle_deg = 20.0;
+  // Incompressible model (5.5): Phi(f_z) = eta f_z / (d^2 gamma g).
+  double load_eta = 1.0;
+  // Stiffness of the hard base under the soil (a very stiff penalty; the
+  // reaction reports it so an engine can apply it implicitly).
+  double base_stiffness_kPa_per_m = 1.0e6;
+};
+
+// Throws std::invalid_argument naming the field when a value is out of range.
+void validate(const SoilMechanics& soil);
+
+inline constexpr double kGravity_m_s2 = 9.80665;
+
+// k_c / b + k_phi in Pa / m^n, for a footprint whose smaller side is b.
+double bekker_modulus_Pa(const SoilMechanics& soil, double footprint_b_m);
+
+// Pressure (Pa) and its derivative (Pa/m) at sinkage z on the loading curve.
+struct PressureSlope {
+  double pressure_Pa = 0.0;
+  double slope_Pa_per_m = 0.0;
+};
+PressureSlope bekker_loading(double modulus_Pa, double n, double sinkage_m);
+
+// Unload/reload line slope k_u (Pa/m) from the largest sinkage reached.
+double unload_stiffness_Pa_per_m(const SoilMechanics& soil, double peak_sinkage_m);
+
+// Plastic part of a peak sinkage: what stays when the load is removed,
+// z_max - p(z_max) / k_u (zero when the line would rebound past the start).
+double plastic_sinkage_m(const SoilMechanics& soil, double modulus_Pa, double peak_sinkage_m);
+
+// Contact pressure of the compressible model at total sinkage z (from the
+// undisturbed surface) with history `peak_sinkage_m`: the loading curve past
+// the peak, the reload line below it, never negative.
+PressureSlope bekker_pressure(const SoilMechanics& soil, double modulus_Pa, double peak_sinkage_m,
+                              double sinkage_m);
+
+// Fracture wedge of a vertical interface (5.6), as corrected in
+// TERRAIN_MODEL.md: with tool face angle delta_t = 90 deg,
+//   F_h = W tan(phi + rho) + 2 F_l cos(phi) / cos(phi + rho),
+//   F_l = tan(phi) (1 - sin(phi)) gamma g H^2 L / 6,  L = H / tan(rho).
+// No soil-tool friction on the face: the interface is vertical by
+// construction of the contact map (5.2.3) and is taken as smooth.
+double wedge_side_friction_N(double phi_rad, double rho_rad, double density_kg_m3, double depth_m);
+double wedge_limit_N(double phi_rad, double rho_rad, double wedge_weight_N, double side_friction_N);
+
+// The analytic limit on flat ground for a blade of width B at depth H,
+// minimised over rho (the reference the tests compare with), and the rho
+// that minimises it.
+struct WedgeSolution {
+  double force_N = 0.0;
+  double rho_rad = 0.0;
+};
+WedgeSolution flat_ground_wedge(double phi_rad, double density_kg_m3, double depth_m, double width_m);
+
+// rho* as a function of H / B, tabulated once per soil (the thesis: "rho is
+// precomputed so it costs nothing during the simulation").
+class WedgeAngleTable {
+ public:
+  WedgeAngleTable() = default;
+  explicit WedgeAngleTable(double phi_rad);
+  double rho_rad(double depth_over_width) const;
+
+ private:
+  static constexpr int kEntries = 65;
+  static constexpr double kMaxRatio = 4.0;  // H / B beyond this uses the last entry
+  std::array<double, kEntries> rho_{};
+};
+
+}  // namespace skidsim::terrain

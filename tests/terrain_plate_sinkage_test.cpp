@@ -1,0 +1,179 @@
+// Plate sinkage (VALIDATION.md 4; thesis 7.3.1, table 7.6): a rigid 1 m x 1 m
+// plate loaded with its weight settles at Bekker's depth
+// z = (m g / A / (k_c / b + k_phi))^(1/n), for several n, whatever the cell
+// size. The plate's edges do not fall on cell edges, so partly covered cells
+// must carry their share. Then the imprint it leaves and the reload line.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "terrain/body_shapes.h"
+#include "terrain/soil_contact.h"
+#include "tests/soil_contact_support.h"
+
+namespace skidsim::terrain {
+namespace {
+
+using testing::TranslatingBody;
+
+constexpr double kDt = 0.002;
+constexpr double kSoilDepth = 0.5;
+constexpr double kPlateHalfThickness = 0.05;
+
+// Soil with Bekker exponent n whose k_phi puts a 1000 kg plate 0.15 m deep,
+// so every n gives sinkages of centimetres (as in the thesis's table 7.6).
+SoilMechanics soil_with_exponent(double n) {
+  SoilMechanics s;
+  s.n = n;
+  s.k_c_kN_per_m_n1 = 0.0;
+  s.k_phi_kN_per_m_n2 = 1000.0 * kGravity_m_s2 / std::pow(0.15, n) / 1000.0;
+  return s;
+}
+
+double bekker_depth(const SoilMechanics& s, double mass_kg) {
+  return std::pow(mass_kg * kGravity_m_s2 / bekker_modulus_Pa(s, 1.0), 1.0 / s.n);
+}
+
+struct PlateRun {
+  double sinkage_m = 0.0;
+  double final_speed_m_s = 0.0;
+  double supported_N = 0.0;
+};
+
+// The weight is applied over 1 s (a plate-loading test, quasi-static) and
+// held until the plate has stopped (at most 9 s more); the soil's damping
+// keeps the loading branch overdamped, so the plate creeps down to rest.
+PlateRun settle_plate(const SoilMechanics& soil, double mass_kg, double cells_per_m) {
+  GranularGrid g = testing::flat_site(cells_per_m, 1.7, kSoilDepth, kDt);
+  SoilContactModel model(g, soil);
+  OrientedBox plate;
+  plate.half_extents_m = {0.5, 0.5, kPlateHalfThickness};
+  TranslatingBody body;
+  body.mass_kg = mass_kg;
+  body.position_m = {0.8137, 0.7731, kSoilDepth + kPlateHalfThickness};
+  BodyReaction r;
+  int still_steps = 0;
+  for (int step = 0; step < 5000 && still_steps < 100; ++step) {
+    const double t = step * kDt;
+    still_steps = t > 1.0 && std::abs(body.velocity_m_s.z()) < 2e-6 ? still_steps + 1 : 0;
+    plate.centre_m = body.position_m;
+    r = model.interact(0, plate, body.motion());
+    body.step(r, {0.0, 0.0, -mass_kg * kGravity_m_s2 * std::min(1.0, t / 1.0)}, kDt);
+    g.step();
+  }
+  return {kSoilDepth - (body.position_m.z() - kPlateHalfThickness), std::abs(body.velocity_m_s.z()), r.force_N.z()};
+}
+
+class PlateSinkageExponent : public ::testing::TestWithParam<double> {};
+
+TEST_P(PlateSinkageExponent, SettlesAtBekkerDepthForEveryMassAndCellSize) {
+  {
+    const double n = GetParam();
+    const SoilMechanics soil = soil_with_exponent(n);
+    for (double mass : {200.0, 500.0, 1000.0}) {
+      const double expected = bekker_depth(soil, mass);
+      double lowest = 1e9, highest = 0.0;
+      for (double cells_per_m : {5.0, 10.0, 20.0, 50.0}) {
+        const PlateRun run = settle_plate(soil, mass, cells_per_m);
+        SCOPED_TRACE(::testing::Message() << "n = " << n << ", m = " << mass << " kg, " << cells_per_m
+                                          << " cells/m: sinkage " << run.sinkage_m << " m, Bekker " << expected);
+        EXPECT_NEAR(run.sinkage_m, expected, 0.02 * expected);
+        EXPECT_LT(run.final_speed_m_s, 1e-5);
+        EXPECT_NEAR(run.supported_N, mass * kGravity_m_s2, 0.01 * mass * kGravity_m_s2);
+        lowest = std::min(lowest, run.sinkage_m);
+        highest = std::max(highest, run.sinkage_m);
+      }
+      // Independent of the cell size (thesis fig. 7.10 b).
+      EXPECT_LT((highest - lowest) / expected, 0.02) << "n = " << n << ", m = " << mass;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Exponents, PlateSinkageExponent, ::testing::Values(0.5, 1.1, 1.5, 2.0),
+                         [](const ::testing::TestParamInfo<double>& param) {
+                           return "n_" + std::to_string(static_cast<int>(std::lround(param.param * 10))) + "_tenths";
+                         });
+
+// Wong's dry sand with its real parameters: the plate leaves an imprint as
+// deep as the plastic part of its sinkage, and loading it again follows the
+// stiff reload line up to the old peak, then the loading curve.
+TEST(PlateSinkage, LeavesItsImprintAndReloadsAlongTheReloadLine) {
+  SoilMechanics soil;  // dry sand (LLL), n = 1.1
+  soil.k_phi_kN_per_m_n2 = 150.0;  // a soft sand: sinkage of centimetres
+  // A reload line that gives back a quarter of an 8 cm sinkage, so that the
+  // line spans many samples.
+  soil.unload_k0_kPa_per_m = 0.0;
+  soil.unload_Au_kPa_per_m2 = 6000.0;
+  const double cells_per_m = 20.0;
+  // Walls of the imprint that stand (a cohesive soil's steep repose angle),
+  // so that the pressure read below is the compacted soil's alone.
+  SoilFlowParameters flow;
+  flow.repose_angle_deg = 65.0;
+  flow.stop_angle_deg = 62.0;
+  GranularGrid g = testing::flat_site(cells_per_m, 1.7, kSoilDepth, kDt, flow);
+  SoilContactModel model(g, soil);
+  OrientedBox plate;
+  plate.half_extents_m = {0.5, 0.5, kPlateHalfThickness};
+  const double x = 0.83, y = 0.79;
+  const double modulus = bekker_modulus_Pa(soil, 1.0);
+  // Displacement control (a bevameter): press to z1, lift clear, press again
+  // to z2 > z1, recording the pressure on the way.
+  const auto press_to = [&](double from_m, double to_m, std::map<double, double>* curve) {
+    const int steps = 400;
+    for (int k = 0; k <= steps; ++k) {
+      const double sinkage = from_m + (to_m - from_m) * k / steps;
+      plate.centre_m = {x, y, kSoilDepth - sinkage + kPlateHalfThickness};
+      BodyMotion still;
+      still.reference_point_m = plate.centre_m;
+      const BodyReaction r = model.interact(0, plate, still);
+      if (curve) (*curve)[sinkage] = r.force_N.z();  // on 1 m^2: pressure in Pa
+      g.step();
+    }
+  };
+  const double z1 = 0.08, z2 = 0.12;
+  std::map<double, double> first, second;
+  press_to(0.0, z1, &first);
+  // On the loading curve, p = k z^n.
+  for (const auto& [z, p] : first) {
+    if (z < 0.01) continue;
+    EXPECT_NEAR(p, modulus * std::pow(z, soil.n), 0.02 * modulus * std::pow(z, soil.n)) << "z = " << z;
+  }
+  press_to(z1, -0.05, nullptr);  // lift clear
+  model.release(0);
+  for (int k = 0; k < 500; ++k) g.step();  // nothing slumps: the imprint stays
+
+  // The imprint: the middle of the footprint is down by the plastic sinkage.
+  const double plastic = plastic_sinkage_m(soil, modulus, z1);
+  const int ci = static_cast<int>(std::lround(x * cells_per_m)), cj = static_cast<int>(std::lround(y * cells_per_m));
+  EXPECT_NEAR(kSoilDepth - g.surface_m(ci, cj), plastic, 0.01 * z1);
+  EXPECT_NEAR(kSoilDepth - g.surface_m(ci + 8, cj - 8), plastic, 0.01 * z1);
+  EXPECT_NEAR(g.surface_m(ci + 12, cj), kSoilDepth, 1e-9);  // outside the footprint: untouched
+  EXPECT_GT(plastic, 0.5 * z1);
+
+  press_to(0.0, z2, &second);
+  const double peak_pressure = modulus * std::pow(z1, soil.n);
+  const double k_u = unload_stiffness_Pa_per_m(soil, z1);
+  int reload_points = 0, loading_points = 0;
+  for (const auto& [z, p] : second) {
+    if (z < plastic - 0.001) {
+      EXPECT_LT(p, 0.02 * peak_pressure) << "z = " << z << ": no load before the imprint is reached";
+    } else if (z > plastic + 0.002 && z < z1 - 0.002) {
+      const double reload = peak_pressure - k_u * (z1 - z);
+      EXPECT_NEAR(p, reload, 0.03 * peak_pressure) << "z = " << z << ": on the reload line";
+      ++reload_points;
+    } else if (z > z1 + 0.002) {
+      const double loading = modulus * std::pow(z, soil.n);
+      EXPECT_NEAR(p, loading, 0.02 * loading) << "z = " << z << ": back on the loading curve";
+      ++loading_points;
+    }
+  }
+  EXPECT_GT(reload_points, 10);
+  EXPECT_GT(loading_points, 50);
+  EXPECT_TRUE(g.ledger().balanced());
+}
+
+}  // namespace
+}  // namespace skidsim::terrain
