@@ -39,6 +39,9 @@ class AttributeReader {
       fail(path_, e_, std::string("attribute '") + name + "' = \"" + text + "\": expected a number");
     return v;
   }
+  double number_or(const char* name, double fallback) {
+    return e_->Attribute(name) ? number(name) : (known_.insert(name), fallback);
+  }
   std::string text(const char* name, bool required) {
     known_.insert(name);
     const char* t = e_->Attribute(name);
@@ -110,13 +113,24 @@ SoilTable load_soil_table(const std::string& path) {
     m.cohesion_kPa = t.number("cohesion_kPa");
     m.friction_angle_deg = t.number("friction_angle_deg");
     m.shear_modulus_K_m = t.number("K_m");
+    // The reload line, damping, soil-tool contact and load model have
+    // defaults (terrain/soil_mechanics.h) a soil may override.
+    m.unload_k0_kPa_per_m = t.number_or("unload_k0_kPa_per_m", m.unload_k0_kPa_per_m);
+    m.unload_Au_kPa_per_m2 = t.number_or("unload_Au_kPa_per_m2", m.unload_Au_kPa_per_m2);
+    m.damping_kPa_s_per_m = t.number_or("damping_kPa_s_per_m", m.damping_kPa_s_per_m);
+    m.tool_adhesion_kPa = t.number_or("tool_adhesion_kPa", m.tool_adhesion_kPa);
+    m.tool_friction_angle_deg = t.number_or("tool_friction_angle_deg", m.tool_friction_angle_deg);
+    m.base_stiffness_kPa_per_m = t.number_or("base_stiffness_kPa_per_m", m.base_stiffness_kPa_per_m);
+    const std::string model = t.text("model", false);
+    if (model == "incompressible") m.model = terrain::VerticalLoadModel::kIncompressible;
+    else if (model.empty() || model == "bekker") m.model = terrain::VerticalLoadModel::kBekker;
+    else fail(path, tm, "attribute 'model' = \"" + model + "\": expected \"bekker\" or \"incompressible\"");
     t.reject_unknown();
-    if (!(m.n > 0.0)) fail(path, tm, "attribute 'n' must be > 0");
-    if (m.k_c_kN_per_m_n1 < 0.0 || m.k_phi_kN_per_m_n2 < 0.0 || !(m.k_c_kN_per_m_n1 + m.k_phi_kN_per_m_n2 > 0.0))
-      fail(path, tm, "attributes 'k_c', 'k_phi' must be >= 0 and not both 0");
-    if (m.cohesion_kPa < 0.0) fail(path, tm, "attribute 'cohesion_kPa' must be >= 0");
-    if (!(m.friction_angle_deg >= 0.0 && m.friction_angle_deg < 90.0)) fail(path, tm, "attribute 'friction_angle_deg' must be in [0, 90)");
-    if (!(m.shear_modulus_K_m > 0.0)) fail(path, tm, "attribute 'K_m' must be > 0");
+    try {
+      terrain::validate(m);
+    } catch (const std::invalid_argument& e) {
+      fail(path, tm, e.what());
+    }
 
     table.emplace(rec.flow.name, rec);
   }

@@ -7,23 +7,15 @@
 #include <string>
 
 #include "terrain/flow_law.h"
+#include "terrain/soil_mechanics.h"
 
 namespace skidsim::io {
 
-// Bekker pressure-sinkage and Mohr-Coulomb shear parameters (Wong, Theory of
-// Ground Vehicles), read and validated here for the soil-body interaction.
-struct TerramechanicsRecord {
-  double n = 1.0;
-  double k_c_kN_per_m_n1 = 0.0;    // kN/m^(n+1)
-  double k_phi_kN_per_m_n2 = 0.0;  // kN/m^(n+2)
-  double cohesion_kPa = 0.0;
-  double friction_angle_deg = 30.0;
-  double shear_modulus_K_m = 0.025;  // Janosi-Hanamoto K
-};
-
 struct SoilRecord {
   terrain::SoilFlowParameters flow;
-  TerramechanicsRecord terramechanics;
+  // Bekker / Mohr-Coulomb (Wong's table), the reload line, the soil-tool
+  // contact and the vertical load model (terrain/soil_mechanics.h).
+  terrain::SoilMechanics terramechanics;
   std::string description;
   int line = 0;  // line of the <soil> element in its file
 };

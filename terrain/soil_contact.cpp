@@ -81,35 +81,41 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double mo
   const double area = c.covered_fraction * d * d;
   const bool full = c.covered_fraction >= kFullyCovered;
   const double level = full ? grid_.surface_at(cell) : c.covered_level_m;
-  const double compacted = grid_.compacted_m(cell);
-  // Sinkage of the covered part from its undisturbed level: the compacted
-  // material (spread over the cell as f z_p) counted back.
-  const double sinkage = level + compacted / c.covered_fraction - c.bottom_z_m;
-  double pressure = 0.0, slope = 0.0;
-  if (soil_.model == VerticalLoadModel::kBekker) {
-    const double peak = peak_[cell];
-    const PressureSlope ps = bekker_pressure(soil_, modulus_Pa, peak, sinkage);
-    pressure = ps.pressure_Pa;
-    slope = ps.slope_Pa_per_m;
-    if (sinkage > peak) {
-      // Loading: the plastic part of the new peak stays (5.4.1, d_p into z),
-      // z_max - p(z_max) / k_u.
-      peak_[cell] = static_cast<float>(sinkage);
-      const double plastic = std::max(0.0, sinkage - pressure / unload_stiffness_Pa_per_m(soil_, sinkage));
-      const double target = c.covered_fraction * plastic;
-      if (target > compacted) {
-        const auto quanta = static_cast<std::int64_t>((target - compacted) / kHeightQuantumM);
+  // Sinkage of the covered part from its undisturbed level: the material
+  // already removed plastically from under it (compacted or pushed aside,
+  // kept per cell as a height f z_p) counted back.
+  const double sinkage = level + plastic_[cell] / c.covered_fraction - c.bottom_z_m;
+  const double peak = peak_[cell];
+  const PressureSlope ps = bekker_pressure(soil_, modulus_Pa, peak, sinkage);
+  double pressure = ps.pressure_Pa;
+  const double slope = ps.slope_Pa_per_m;
+  if (sinkage > peak) {
+    // Loading: the plastic part of the new peak stays (5.4.1, d_p into z),
+    // z_max - p(z_max) / k_u.
+    peak_[cell] = static_cast<float>(sinkage);
+    const double plastic = std::max(0.0, sinkage - pressure / unload_stiffness_Pa_per_m(soil_, sinkage));
+    const double more = c.covered_fraction * plastic - plastic_[cell];
+    if (more > 0.0) {
+      const auto quanta = static_cast<std::int64_t>(more / kHeightQuantumM);
+      if (soil_.model == VerticalLoadModel::kBekker) {
+        // Compressible: the soil under the body compacts.
         const std::int64_t done = grid_.compact_quanta(cell, quanta);
         out.compacted_m3 += done * grid_.quantum_volume_m3();
+        plastic_[cell] += static_cast<float>(done * kHeightQuantumM);
+        if (!full) c.covered_level_m -= done * kHeightQuantumM / c.covered_fraction;
+      } else if (quanta > 0) {
+        // Incompressible (5.3): the same volume leaves from under the load
+        // for the contour of the pressed zone, away from the footprint's
+        // middle.
+        const std::int64_t done = std::min(quanta, grid_.loose_quanta(cell));
+        const Eigen::Vector2d outward = c.point_m.head<2>() - current_footprint_centre_;
+        const int direction = std::abs(outward.x()) >= std::abs(outward.y()) ? (outward.x() >= 0.0 ? 0 : 1)
+                                                                             : (outward.y() >= 0.0 ? 2 : 3);
+        pushes_.push_back({c.cell, direction, done * kHeightQuantumM});
+        plastic_[cell] += static_cast<float>(done * kHeightQuantumM);
         if (!full) c.covered_level_m -= done * kHeightQuantumM / c.covered_fraction;
       }
     }
-  } else {
-    // Incompressible (5.3): a stiff elastic contact on the penetration; the
-    // load pushes material out from under the body (push_out_under_load).
-    const double k_e = 1000.0 * soil_.unload_k0_kPa_per_m;
-    pressure = k_e * std::max(level - c.bottom_z_m, 0.0);
-    slope = k_e;
   }
   const double sink_rate = -c.velocity_m_s.z();
   double damping = 0.0;
@@ -139,41 +145,6 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double mo
   out.shear_bound_N += 1000.0 * soil_.tool_adhesion_kPa * area + vertical * tan_tool_friction_;
   out.shear_point_m += vertical * c.point_m;
   out.contact_area_m2 += area;
-  if (soil_.model == VerticalLoadModel::kIncompressible && vertical > 0.0) push_out_under_load(c, vertical);
-}
-
-void SoilContactModel::push_out_under_load(const CellContact& c, double load_N) {
-  // (5.3)-(5.5): the load raises the cell's apparent surface by
-  // Phi = eta f_z / (d^2 gamma g); where that makes the slope to a free
-  // neighbour steeper than the repose angle, material flows out with the
-  // automaton's own law.
-  const int cell = static_cast<int>(c.cell);
-  const double d = grid_.cell_size_m();
-  const FlowLaw& law = grid_.flow_law();
-  const double phi_m =
-      soil_.load_eta * load_N / (d * d * grid_.soil().bulk_density_kg_m3 * kGravity_m_s2);
-  const double apparent = grid_.surface_at(cell) + phi_m;
-  const int i = cell % grid_.nx(), j = cell / grid_.nx();
-  double moved[kFaceCount] = {0.0, 0.0, 0.0, 0.0};
-  double total = 0.0;
-  for (int f = 0; f < kFaceCount; ++f) {
-    const int ni = i + kStep[f][0], nj = j + kStep[f][1];
-    if (!grid_.contains(ni, nj)) continue;
-    const int n = grid_.index(ni, nj);
-    if (grid_.covered(n)) continue;
-    const double slope = (apparent - grid_.surface_at(n)) / d;
-    if (slope <= law.tan_repose) continue;
-    moved[f] = law.moved_height_m(slope);
-    total += moved[f];
-  }
-  if (total <= 0.0) return;
-  const double available = grid_.loose_quanta(cell) * kHeightQuantumM;
-  const double scale = total > available ? available / total : 1.0;
-  for (int f = 0; f < kFaceCount; ++f) {
-    if (moved[f] <= 0.0) continue;
-    const int n = grid_.index(i + kStep[f][0], j + kStep[f][1]);
-    grid_.transfer_quanta(cell, n, static_cast<std::int64_t>(moved[f] * scale / kHeightQuantumM));
-  }
 }
 
 bool SoilContactModel::interface_at(const CellContact& c, int f, Interface* out) const {
@@ -196,7 +167,8 @@ bool SoilContactModel::interface_at(const CellContact& c, int f, Interface* out)
   return out->depth_m > 0.0;
 }
 
-double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface& face, double rho_rad) {
+double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface& face, double rho_rad,
+                                    bool beyond_body) {
   // The fracture plane rises at rho from the interface's foot (fig. 5.15);
   // u is the horizontal distance from the interface.
   const double d = grid_.cell_size_m();
@@ -209,12 +181,19 @@ double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface
   double u = d - face.s_m;
   double total = clipped_section(face.depth_m, t, 0.0, u);
   int i = cell % grid_.nx(), j = cell / grid_.nx();
+  if (beyond_body) {
+    // Pushed material lands beyond the body's own cells, never under it.
+    while (map_slot(i + kStep[f][0], j + kStep[f][1]) >= 0) {
+      i += kStep[f][0];
+      j += kStep[f][1];
+    }
+  }
   while (u < length_cap) {
     i += kStep[f][0];
     j += kStep[f][1];
     if (!grid_.contains(i, j)) break;
     const int n = grid_.index(i, j);
-    if (grid_.covered(n)) break;
+    if (grid_.covered(n) || map_slot(i, j) >= 0) break;
     const double a = grid_.surface_at(n) - c.bottom_z_m;
     const double section = clipped_section(a, t, u, u + d);
     wedge_cells_.push_back(n);
@@ -235,12 +214,16 @@ void SoilContactModel::push_material(const Push& push, const CellContact& c) {
     face.s_m = grid_.cell_size_m();
     face.depth_m = std::max(push.height_m, grid_.cell_size_m());
   }
-  walk_wedge(c, push.direction, face, rho_table_.rho_rad(0.0));
+  walk_wedge(c, push.direction, face, rho_table_.rho_rad(0.0), true);
   const auto quanta = static_cast<std::int64_t>(push.height_m / kHeightQuantumM);
   const int cell = static_cast<int>(c.cell);
   if (wedge_cells_.empty()) {
     // Nothing in front but the grid's edge: off-site over an open edge.
-    const int i = cell % grid_.nx() + kStep[push.direction][0], j = cell / grid_.nx() + kStep[push.direction][1];
+    int i = cell % grid_.nx() + kStep[push.direction][0], j = cell / grid_.nx() + kStep[push.direction][1];
+    while (map_slot(i, j) >= 0) {
+      i += kStep[push.direction][0];
+      j += kStep[push.direction][1];
+    }
     if (grid_.contains(i, j)) return;  // a covered neighbour: the body holds it
     static constexpr Edge kEdgeOfFace[kFaceCount] = {kEdgeXMax, kEdgeXMin, kEdgeYMax, kEdgeYMin};
     const Edge edge = kEdgeOfFace[push.direction];
@@ -316,7 +299,7 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
       if (r.direction != f) continue;
       const CellContact& c = map.cells[r.contact];
       const Interface& face = r.face;
-      w.weight_N += gamma_g * face.w_m * walk_wedge(c, f, face, w.rho_rad);
+      w.weight_N += gamma_g * face.w_m * walk_wedge(c, f, face, w.rho_rad, false);
       // The interface: from the cell edge behind it, s along the direction.
       const int cell = static_cast<int>(c.cell);
       const Eigen::Vector2d centre =
@@ -342,9 +325,8 @@ void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMo
   update_covered(state);
   for (CellContact& c : state.next.cells) {
     const int cell = static_cast<int>(c.cell);
-    const double compacted = grid_.compacted_m(cell);
-    c.covered_level_m =
-        std::min(grid_.surface_at(cell) + compacted - compacted / c.covered_fraction, c.bottom_z_m);
+    const double plastic = plastic_.empty() ? 0.0 : plastic_[cell];
+    c.covered_level_m = std::min(grid_.surface_at(cell) + plastic - plastic / c.covered_fraction, c.bottom_z_m);
   }
   std::swap(state.map, state.next);
   state.in_contact = !state.map.cells.empty();
@@ -359,7 +341,12 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
   const ContactMap& now = state.next;
   index_map(now);
   const ContactMap& before = state.map;
-  if (peak_.empty() && !now.cells.empty()) peak_.assign(static_cast<std::size_t>(grid_.nx()) * grid_.ny(), 0.0f);
+  if (peak_.empty() && !now.cells.empty()) {
+    peak_.assign(static_cast<std::size_t>(grid_.nx()) * grid_.ny(), 0.0f);
+    plastic_.assign(peak_.size(), 0.0f);
+  }
+  current_footprint_centre_ = Eigen::Vector2d::Zero();
+  if (!now.footprint.isEmpty()) current_footprint_centre_ = now.footprint.center();
   update_covered(state);
   const double modulus = bekker_modulus_Pa(soil_, now.footprint_b_m);
 
@@ -373,8 +360,8 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
     const double surface = grid_.surface_at(cell);
     // A cell the body did not touch before: the level of its soil under the
     // covered part, if the cell's compaction (an old imprint) lies there.
-    const double compacted = grid_.compacted_m(cell);
-    const double untouched_level = surface + compacted - compacted / c.covered_fraction;
+    const double plastic = plastic_[cell];
+    const double untouched_level = surface + plastic - plastic / c.covered_fraction;
     double covered_before = 0.0, level_before = untouched_level;
     if (previous) {
       covered_before = previous->covered_fraction;

@@ -2,10 +2,11 @@
 // for each body near the soil, build its contact map, let the soil carry and
 // resist the body, and change the terrain under it:
 //   - vertical load: Bekker pressure-sinkage (3.19) with an elastic/plastic
-//     split; the plastic part stays in the terrain as compacted material
-//     (ruts, imprints) and later loads follow Wong's stiffer reload line; or,
-//     for an incompressible soil, a stiff elastic contact whose load pushes
-//     material out from under the body (5.3-5.5);
+//     split; the plastic part stays in the terrain (ruts, imprints) and later
+//     loads follow Wong's stiffer reload line. A compressible soil (5.4)
+//     keeps it as compacted material; an incompressible one (5.3) pushes
+//     that volume out from under the load to the contour of the pressed
+//     zone, where it rises;
 //   - tangential: the Mohr-Coulomb bound on the shear the contact carries
 //     (5.4.2);
 //   - horizontal push: the fracture wedge limit (5.6) of every vertical
@@ -121,7 +122,6 @@ class SoilContactModel {
 
   void update_covered(BodyState& state);
   void press(CellContact& c, const BodyMotion& motion, double modulus_Pa, BodyReaction& out);
-  void push_out_under_load(const CellContact& c, double load_N);
   void push_material(const Push& push, const CellContact& c);
   void wedge_reactions(const ContactMap& map, BodyReaction& out);
   bool interface_at(const CellContact& c, int direction, Interface* out) const;
@@ -133,14 +133,21 @@ class SoilContactModel {
   // plane emerges or the wedge is twice its flat-ground length. Returns the
   // wedge's section (m^2) and fills wedge_cells_ / wedge_area_ with the
   // cells in front and their part of it.
-  double walk_wedge(const CellContact& c, int direction, const Interface& face, double rho_rad);
+  // With `beyond_body`, the walk starts past the body's own cells (where
+  // pushed material goes); without, it stops at them.
+  double walk_wedge(const CellContact& c, int direction, const Interface& face, double rho_rad, bool beyond_body);
 
   GranularGrid& grid_;
   SoilMechanics soil_;
   WedgeAngleTable rho_table_;
   double phi_rad_ = 0.0;
   double tan_tool_friction_ = 0.0;
-  std::vector<float> peak_;  // per cell, allocated at the first contact
+  // Per cell, allocated at the first contact: the largest sinkage reached
+  // (start of the reload line) and the plastic sinkage realised, as a height
+  // over the cell (compacted, or pushed aside by an incompressible soil).
+  std::vector<float> peak_;
+  std::vector<float> plastic_;
+  Eigen::Vector2d current_footprint_centre_ = Eigen::Vector2d::Zero();
   std::vector<BodyState> bodies_;
   ContactMapper mapper_;
   // Where each cell of the map being worked on sits in it (index_map).

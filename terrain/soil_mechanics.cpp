@@ -74,7 +74,6 @@ void validate(const SoilMechanics& s) {
           ">= 0");
   require(s.tool_friction_angle_deg >= 0.0 && s.tool_friction_angle_deg < 60.0, "tool_friction_angle_deg",
           s.tool_friction_angle_deg, "in [0, 60) deg");
-  require(std::isfinite(s.load_eta) && s.load_eta > 0.0, "load_eta", s.load_eta, "> 0");
   require(std::isfinite(s.base_stiffness_kPa_per_m) && s.base_stiffness_kPa_per_m > 0.0, "base_stiffness",
           s.base_stiffness_kPa_per_m, "> 0");
 }

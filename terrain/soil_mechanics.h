@@ -12,7 +12,8 @@ namespace skidsim::terrain {
 
 enum class VerticalLoadModel {
   kBekker,          // compressible: pressure from sinkage (3.19, 5.4.1)
-  kIncompressible,  // material flows out from under the load (5.3-5.5)
+  kIncompressible,  // the same pressure, but the plastic part of the sinkage
+                    // pushes material out from under the load (5.3)
 };
 
 struct SoilMechanics {
@@ -37,8 +38,6 @@ struct SoilMechanics {
   double shear_modulus_K_m = 0.025;
   double tool_adhesion_kPa = 0.0;
   double tool_friction_angle_deg = 20.0;
-  // Incompressible model (5.5): Phi(f_z) = eta f_z / (d^2 gamma g).
-  double load_eta = 1.0;
   // Stiffness of the hard base under the soil (a very stiff penalty; the
   // reaction reports it so an engine can apply it implicitly).
   double base_stiffness_kPa_per_m = 1.0e6;

@@ -19,8 +19,14 @@ TEST(SoilTable, ShippedTableLoadsAndIsValid) {
   EXPECT_LE(sand.flow.repose_angle_deg, 34.0);
   EXPECT_DOUBLE_EQ(sand.terramechanics.n, 1.1);
   EXPECT_DOUBLE_EQ(sand.terramechanics.k_phi_kN_per_m_n2, 1528.43);
-  EXPECT_EQ(table.size(), 6u);
-  for (const auto& [id, rec] : table) EXPECT_NO_THROW(terrain::validate(rec.flow)) << id;
+  EXPECT_EQ(table.size(), 7u);
+  for (const auto& [id, rec] : table) {
+    EXPECT_NO_THROW(terrain::validate(rec.flow)) << id;
+    EXPECT_NO_THROW(terrain::validate(rec.terramechanics)) << id;
+  }
+  EXPECT_EQ(sand.terramechanics.model, terrain::VerticalLoadModel::kBekker);
+  EXPECT_DOUBLE_EQ(sand.terramechanics.tool_friction_angle_deg, 19.0);
+  EXPECT_EQ(table.at("gravel").terramechanics.model, terrain::VerticalLoadModel::kIncompressible);
 }
 
 std::string write_temp(const std::string& name, const std::string& text) {
@@ -65,6 +71,16 @@ TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
                    "</soil>\n</soils>\n",
                {":4:", "duplicate soil id 'a'"});
   expect_error("<soils><soil id=\"a\">", {"skidsim_bad_soils.xml"});  // not well-formed
+  // Terramechanics: a bad load model, and a value out of range, name the
+  // line and the field.
+  std::string tm = kTm;
+  tm.insert(tm.find("/>"), " model=\"squishy\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + "\n" + tm + "\n</soil>\n</soils>\n",
+               {":4:", "<terramechanics>", "model", "squishy"});
+  tm = kTm;
+  tm.insert(tm.find("/>"), " tool_friction_angle_deg=\"75\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + "\n" + tm + "\n</soil>\n</soils>\n",
+               {":4:", "tool_friction_angle_deg"});
 }
 
 }  // namespace

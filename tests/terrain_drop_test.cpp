@@ -85,3 +85,77 @@ TEST(SoilImpact, BodyDroppedAtTenMetresPerSecondStopsFiniteAboveTheBaseAndRests)
 
 }  // namespace
 }  // namespace skidsim::terrain
+
+namespace skidsim::terrain {
+namespace {
+
+// The incompressible model (thesis 5.3): a ball set on soil that does not
+// compact pushes material out from under it into a rim; nothing is
+// compacted, material is conserved exactly and the ball comes to rest
+// carried by the soil, at the depth the same Bekker soil gives when it
+// compacts (the pressure law is the same; only where the volume goes
+// differs).
+struct BallRun {
+  double sinkage_m = 0.0, rim_m = 0.0, compacted_m = 0.0, speed_m_s = 0.0, supported_N = 0.0;
+  bool conserved = false;
+};
+
+BallRun settle_ball(VerticalLoadModel model_kind) {
+  const double dt = 0.002, depth = 0.4, cells_per_m = 20.0;
+  GranularGrid g = testing::flat_site(cells_per_m, 2.0, depth, dt);
+  SoilMechanics soil;  // dry sand's Bekker law, n = 1.1
+  soil.model = model_kind;
+  SoilContactModel model(g, soil);
+  const std::int64_t quanta_before = g.total_quanta();
+  Sphere ball;
+  ball.radius_m = 0.3;
+  testing::TranslatingBody body;
+  body.mass_kg = 300.0;
+  body.position_m = {1.0137, 0.9871, depth + ball.radius_m};
+  BodyReaction r;
+  for (int k = 0; k < 2500; ++k) {
+    ball.centre_m = body.position_m;
+    r = model.interact(0, ball, body.motion());
+    body.step(r, {0.0, 0.0, -body.mass_kg * kGravity_m_s2}, dt);
+    g.step();
+  }
+  BallRun out;
+  out.sinkage_m = depth - (body.position_m.z() - ball.radius_m);
+  for (int j = 0; j < g.ny(); ++j) {
+    for (int i = 0; i < g.nx(); ++i) {
+      out.rim_m = std::max(out.rim_m, g.surface_m(i, j) - depth);
+      out.compacted_m += g.compacted_m(g.index(i, j));
+    }
+  }
+  out.speed_m_s = body.velocity_m_s.norm();
+  out.supported_N = r.force_N.z();
+  out.conserved = g.total_quanta() == quanta_before && g.ledger().balanced();
+  return out;
+}
+
+TEST(IncompressibleSoil, LoadPushesMaterialAsideIntoARim) {
+  const BallRun pushed = settle_ball(VerticalLoadModel::kIncompressible);
+  const BallRun compacted = settle_ball(VerticalLoadModel::kBekker);
+  std::printf("ball on incompressible soil: sinkage %.4f m, rim %.4f m; on compressible: sinkage %.4f m, rim %.4f m\n",
+              pushed.sinkage_m, pushed.rim_m, compacted.sinkage_m, compacted.rim_m);
+  const double weight = 300.0 * kGravity_m_s2;
+  for (const BallRun* run : {&pushed, &compacted}) {
+    EXPECT_TRUE(run->conserved);
+    EXPECT_LT(run->speed_m_s, 1e-3);
+    EXPECT_NEAR(run->supported_N, weight, 0.02 * weight);
+    EXPECT_GT(run->sinkage_m, 0.02);
+  }
+  // Incompressible: nothing compacted, the volume stands in a rim.
+  EXPECT_EQ(pushed.compacted_m, 0.0);
+  EXPECT_GT(pushed.rim_m, 0.01);
+  // Compressible: no rim, the volume is compacted.
+  EXPECT_LT(compacted.rim_m, 1e-6);
+  EXPECT_GT(compacted.compacted_m, 0.0);
+  // The same pressure law: the rim carries a little, so the ball sinks a
+  // little less where the soil is pushed aside.
+  EXPECT_LT(pushed.sinkage_m, compacted.sinkage_m);
+  EXPECT_GT(pushed.sinkage_m, 0.7 * compacted.sinkage_m);
+}
+
+}  // namespace
+}  // namespace skidsim::terrain
