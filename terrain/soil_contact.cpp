@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace skidsim::terrain {
@@ -147,6 +148,17 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double mo
   out.contact_area_m2 += area;
 }
 
+double SoilContactModel::free_level_cap(int cell, double covered_fraction, int f) const {
+  // The free part of a partly covered cell adjoins the cell in front: its
+  // soil stands at most a repose slope above that cell's. (Without the cap,
+  // soil an avalanche brings into a cell that is almost covered would stand
+  // impossibly high on its sliver of free area.)
+  const int i = cell % grid_.nx() + kStep[f][0], j = cell / grid_.nx() + kStep[f][1];
+  if (!grid_.contains(i, j) || map_slot(i, j) >= 0) return std::numeric_limits<double>::infinity();
+  return grid_.surface_at(grid_.index(i, j)) +
+         (1.0 - covered_fraction) * grid_.cell_size_m() * grid_.flow_law().tan_repose;
+}
+
 bool SoilContactModel::interface_at(const CellContact& c, int f, Interface* out) const {
   const double d = grid_.cell_size_m();
   const int cell = static_cast<int>(c.cell);
@@ -154,7 +166,9 @@ bool SoilContactModel::interface_at(const CellContact& c, int f, Interface* out)
   if (c.interface_w_m[f] > 0.0) {
     out->s_m = c.interface_s_m[f];
     out->w_m = c.interface_w_m[f];
-    out->depth_m = free_surface_m(cell, c.covered_fraction, c.covered_level_m) - c.bottom_z_m;
+    out->depth_m = std::min(free_surface_m(cell, c.covered_fraction, c.covered_level_m),
+                            free_level_cap(cell, c.covered_fraction, f)) -
+                   c.bottom_z_m;
   } else {
     // A fully covered cell whose neighbour the body does not touch: the
     // interface lies on the cell edge.
@@ -380,20 +394,31 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
       }
     }
     const double gained = c.covered_fraction - covered_before;
-    // (5.7) over the whole swept area: the swept fraction of the cell times
-    // the soil standing above the body's underside in the free part. A
-    // change of cell (5.5.3) is this cell filling up and the next one
-    // starting: both are counted.
-    const double pushed = direction >= 0 && gained > 0.0 ? gained * std::max(0.0, free_before - c.bottom_z_m) : 0.0;
-    // The covered part's level: the part covered before keeps its own, the
-    // newly covered part is at the underside where soil was pushed away,
-    // else at the free part's level.
+    // The covered part's level: the part covered before keeps its own; the
+    // newly covered part is at the free part's level, or at the underside
+    // where the body pushes the soil above it away.
     c.covered_level_m = level_before;
-    if (gained > 0.0)
-      c.covered_level_m =
-          (covered_before * level_before +
-           gained * (pushed > 0.0 ? c.bottom_z_m : covered_before > 0.0 ? free_before : untouched_level)) /
-          c.covered_fraction;
+    double pushed = 0.0;
+    if (gained > 0.0 && direction >= 0) {
+      // (5.7) over the whole swept area: what the cell holds beyond its
+      // covered part (now at most at the underside) and its free part (at
+      // most level with the soil in front) goes ahead. With nothing else
+      // that is the swept fraction times the soil above the underside,
+      // (5.7); a change of cell (5.5.3) is this cell filling up and the
+      // next one starting, both counted.
+      const double level =
+          (covered_before * level_before + gained * std::min(free_before, c.bottom_z_m)) / c.covered_fraction;
+      const double free_level = std::min(free_before, free_level_cap(cell, c.covered_fraction, direction));
+      const double keep = c.covered_fraction >= kFullyCovered
+                              ? level
+                              : c.covered_fraction * level + (1.0 - c.covered_fraction) * free_level;
+      pushed = std::max(0.0, surface - keep);
+      if (pushed > 0.0) c.covered_level_m = level;
+    } else if (gained > 0.0) {
+      c.covered_level_m = (covered_before * level_before +
+                           gained * (covered_before > 0.0 ? free_before : untouched_level)) /
+                          c.covered_fraction;
+    }
     if (pushed > 0.0) {
       pushes_.push_back({c.cell, direction, pushed});
       continue;

@@ -125,6 +125,9 @@ class SoilContactModel {
   void push_material(const Push& push, const CellContact& c);
   void wedge_reactions(const ContactMap& map, BodyReaction& out);
   bool interface_at(const CellContact& c, int direction, Interface* out) const;
+  // Highest level the free part of a partly covered cell can hold, next to
+  // the cell in front of it in `direction`.
+  double free_level_cap(int cell, double covered_fraction, int direction) const;
   // Level (m) of the free part of a partly covered cell (5.2.2: h2), given
   // the level of its covered part: the cell's material is f h1 + (1 - f) h2.
   double free_surface_m(int cell, double covered_fraction, double covered_level_m) const;
