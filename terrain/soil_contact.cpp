@@ -29,11 +29,25 @@ double clipped_section(double a, double t, double u0, double u1) {
 
 }  // namespace
 
-SoilContactModel::SoilContactModel(GranularGrid& grid, const SoilMechanics& soil) : grid_(grid), soil_(soil) {
-  validate(soil_);
-  phi_rad_ = radians(soil_.friction_angle_deg);
-  tan_tool_friction_ = std::tan(radians(soil_.tool_friction_angle_deg));
-  rho_table_ = WedgeAngleTable(phi_rad_);
+SoilContactModel::SoilContactModel(GranularGrid& grid, const SoilMechanics& soil) : grid_(grid) { add_soil(soil); }
+
+int SoilContactModel::add_soil(const SoilMechanics& soil) {
+  validate(soil);
+  if (regions_.size() >= 256) throw std::invalid_argument("SoilContactModel::add_soil: at most 256 soils");
+  SoilRegion r;
+  r.soil = soil;
+  r.phi_rad = radians(soil.friction_angle_deg);
+  r.tan_tool_friction = std::tan(radians(soil.tool_friction_angle_deg));
+  r.rho_table = WedgeAngleTable(r.phi_rad);
+  regions_.push_back(r);
+  return static_cast<int>(regions_.size()) - 1;
+}
+
+void SoilContactModel::set_soil_region(int i, int j, int soil_index) {
+  if (!grid_.contains(i, j) || soil_index < 0 || soil_index >= static_cast<int>(regions_.size()))
+    throw std::invalid_argument("SoilContactModel::set_soil_region: cell outside the grid or unknown soil index");
+  if (region_of_cell_.empty()) region_of_cell_.assign(static_cast<std::size_t>(grid_.nx()) * grid_.ny(), 0);
+  region_of_cell_[grid_.index(i, j)] = static_cast<std::uint8_t>(soil_index);
 }
 
 void SoilContactModel::release(int body_id) {
@@ -76,8 +90,11 @@ double SoilContactModel::free_surface_m(int cell, double covered_fraction, doubl
   return (surface - covered_fraction * covered_level_m) / (1.0 - covered_fraction);
 }
 
-void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double modulus_Pa, BodyReaction& out) {
+void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReaction& out) {
   const int cell = static_cast<int>(c.cell);
+  const SoilRegion& region = region_at(cell);
+  const SoilMechanics& soil = region.soil;
+  const double modulus_Pa = region.modulus_Pa;
   const double d = grid_.cell_size_m();
   const double area = c.covered_fraction * d * d;
   const bool full = c.covered_fraction >= kFullyCovered;
@@ -87,18 +104,18 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double mo
   // kept per cell as a height f z_p) counted back.
   const double sinkage = level + plastic_[cell] / c.covered_fraction - c.bottom_z_m;
   const double peak = peak_[cell];
-  const PressureSlope ps = bekker_pressure(soil_, modulus_Pa, peak, sinkage);
+  const PressureSlope ps = bekker_pressure(soil, modulus_Pa, peak, sinkage);
   double pressure = ps.pressure_Pa;
   const double slope = ps.slope_Pa_per_m;
   if (sinkage > peak) {
     // Loading: the plastic part of the new peak stays (5.4.1, d_p into z),
     // z_max - p(z_max) / k_u.
     peak_[cell] = static_cast<float>(sinkage);
-    const double plastic = std::max(0.0, sinkage - pressure / unload_stiffness_Pa_per_m(soil_, sinkage));
+    const double plastic = std::max(0.0, sinkage - pressure / unload_stiffness_Pa_per_m(soil, sinkage));
     const double more = c.covered_fraction * plastic - plastic_[cell];
     if (more > 0.0) {
       const auto quanta = static_cast<std::int64_t>(more / kHeightQuantumM);
-      if (soil_.model == VerticalLoadModel::kBekker) {
+      if (soil.model == VerticalLoadModel::kBekker) {
         // Compressible: the soil under the body compacts.
         const std::int64_t done = grid_.compact_quanta(cell, quanta);
         out.compacted_m3 += done * grid_.quantum_volume_m3();
@@ -121,13 +138,13 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double mo
   const double sink_rate = -c.velocity_m_s.z();
   double damping = 0.0;
   if (pressure > 0.0) {
-    damping = 1000.0 * soil_.damping_kPa_s_per_m;
+    damping = 1000.0 * soil.damping_kPa_s_per_m;
     pressure = std::max(0.0, pressure + damping * sink_rate);
   }
   const double base_penetration = static_cast<double>(grid_.base_at(cell)) - c.bottom_z_m;
   double base_force = 0.0, base_stiffness = 0.0;
   if (base_penetration > 0.0) {
-    base_stiffness = 1000.0 * soil_.base_stiffness_kPa_per_m * area;
+    base_stiffness = 1000.0 * soil.base_stiffness_kPa_per_m * area;
     base_force = base_stiffness * base_penetration;
     out.base_penetration_m = std::max(out.base_penetration_m, base_penetration);
   }
@@ -143,7 +160,7 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, double mo
   out.normal_stiffness_N_per_m += slope * area + base_stiffness;
   out.normal_damping_N_s_per_m += damping * area;
   // Mohr-Coulomb on the soil-tool contact (5.4.2): (a + sigma_n tan delta) A.
-  out.shear_bound_N += 1000.0 * soil_.tool_adhesion_kPa * area + vertical * tan_tool_friction_;
+  out.shear_bound_N += 1000.0 * soil.tool_adhesion_kPa * area + vertical * region.tan_tool_friction;
   out.shear_point_m += vertical * c.point_m;
   out.contact_area_m2 += area;
 }
@@ -228,7 +245,7 @@ void SoilContactModel::push_material(const Push& push, const CellContact& c) {
     face.s_m = grid_.cell_size_m();
     face.depth_m = std::max(push.height_m, grid_.cell_size_m());
   }
-  walk_wedge(c, push.direction, face, rho_table_.rho_rad(0.0), true);
+  walk_wedge(c, push.direction, face, region_at(static_cast<int>(c.cell)).rho_table.rho_rad(0.0), true);
   const auto quanta = static_cast<std::int64_t>(push.height_m / kHeightQuantumM);
   const int cell = static_cast<int>(c.cell);
   if (wedge_cells_.empty()) {
@@ -298,16 +315,21 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
   }
   for (int f = 0; f < kFaceCount; ++f) {
     double width = 0.0, depth_width = 0.0;
+    region_width_.assign(regions_.size(), 0.0);
     for (const FaceRef& r : interfaces_) {
       if (r.direction != f) continue;
       width += r.face.w_m;
       depth_width += r.face.w_m * r.face.depth_m;
+      region_width_[region_index(static_cast<int>(map.cells[r.contact].cell))] += r.face.w_m;
     }
     if (width <= 0.0) continue;
+    // One soil per wedge: the one in front of most of the interfaces' width.
+    const SoilRegion& region =
+        regions_[std::max_element(region_width_.begin(), region_width_.end()) - region_width_.begin()];
     WedgeReaction& w = out.wedge[f];
     w.width_m = width;
     w.depth_m = depth_width / width;
-    w.rho_rad = rho_table_.rho_rad(w.depth_m / width);
+    w.rho_rad = region.rho_table.rho_rad(w.depth_m / width);
     Eigen::Vector3d point = Eigen::Vector3d::Zero();
     for (const FaceRef& r : interfaces_) {
       if (r.direction != f) continue;
@@ -326,8 +348,9 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
       point += face.w_m * p;
     }
     w.point_m = point / width;
-    const double side = wedge_side_friction_N(phi_rad_, w.rho_rad, grid_.soil().bulk_density_kg_m3, w.depth_m);
-    w.bound_N = wedge_limit_N(phi_rad_, w.rho_rad, w.weight_N, side);
+    const double side =
+        wedge_side_friction_N(region.phi_rad, w.rho_rad, grid_.soil().bulk_density_kg_m3, w.depth_m);
+    w.bound_N = wedge_limit_N(region.phi_rad, w.rho_rad, w.weight_N, side);
   }
 }
 
@@ -362,7 +385,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
   current_footprint_centre_ = Eigen::Vector2d::Zero();
   if (!now.footprint.isEmpty()) current_footprint_centre_ = now.footprint.center();
   update_covered(state);
-  const double modulus = bekker_modulus_Pa(soil_, now.footprint_b_m);
+  for (SoilRegion& r : regions_) r.modulus_Pa = bekker_modulus_Pa(r.soil, now.footprint_b_m);
 
   pushes_.clear();
   std::size_t k = 0;
@@ -423,7 +446,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
       pushes_.push_back({c.cell, direction, pushed});
       continue;
     }
-    press(c, motion, modulus, out);
+    press(c, motion, out);
   }
   for (const Push& p : pushes_) {
     const auto it = std::lower_bound(now.cells.begin(), now.cells.end(), p.cell,

@@ -77,7 +77,15 @@ struct BodyReaction {
 
 class SoilContactModel {
  public:
+  // `soil` is soil 0, which every cell has until set_soil_region says
+  // otherwise.
   SoilContactModel(GranularGrid& grid, const SoilMechanics& soil);
+
+  // Soil regions: the mechanics of the soil under each cell (a sand pile on
+  // a clay yard). Returns the new soil's index (at most 256 soils). The
+  // avalanche law stays the grid's own (one per automaton).
+  int add_soil(const SoilMechanics& soil);
+  void set_soil_region(int i, int j, int soil_index);
 
   // One body, one step (step 3 of ARCHITECTURE.md's 2 ms step): builds the
   // body's contact map, updates the terrain under it and returns the soil's
@@ -95,7 +103,7 @@ class SoilContactModel {
   void release(int body_id);
 
   const ContactMap& contact_map(int body_id) const { return bodies_.at(body_id).map; }
-  const SoilMechanics& soil() const { return soil_; }
+  const SoilMechanics& soil(int index = 0) const { return regions_.at(index).soil; }
   // The largest sinkage (from the undisturbed surface) a load reached at a
   // cell: the start of its reload line.
   double peak_sinkage_m(int cell) const { return peak_.empty() ? 0.0 : peak_[cell]; }
@@ -121,7 +129,17 @@ class SoilContactModel {
   };
 
   void update_covered(BodyState& state);
-  void press(CellContact& c, const BodyMotion& motion, double modulus_Pa, BodyReaction& out);
+  struct SoilRegion {
+    SoilMechanics soil;
+    double phi_rad = 0.0;
+    double tan_tool_friction = 0.0;
+    WedgeAngleTable rho_table;
+    double modulus_Pa = 0.0;  // Bekker's k_c / b + k_phi for this step's footprint
+  };
+  int region_index(int cell) const { return region_of_cell_.empty() ? 0 : region_of_cell_[cell]; }
+  const SoilRegion& region_at(int cell) const { return regions_[region_index(cell)]; }
+
+  void press(CellContact& c, const BodyMotion& motion, BodyReaction& out);
   void push_material(const Push& push, const CellContact& c);
   void wedge_reactions(const ContactMap& map, BodyReaction& out);
   bool interface_at(const CellContact& c, int direction, Interface* out) const;
@@ -141,10 +159,9 @@ class SoilContactModel {
   double walk_wedge(const CellContact& c, int direction, const Interface& face, double rho_rad, bool beyond_body);
 
   GranularGrid& grid_;
-  SoilMechanics soil_;
-  WedgeAngleTable rho_table_;
-  double phi_rad_ = 0.0;
-  double tan_tool_friction_ = 0.0;
+  std::vector<SoilRegion> regions_;
+  std::vector<std::uint8_t> region_of_cell_;  // empty: every cell is soil 0
+  std::vector<double> region_width_;          // wedge scratch
   // Per cell, allocated at the first contact: the largest sinkage reached
   // (start of the reload line) and the plastic sinkage realised, as a height
   // over the cell (compacted, or pushed aside by an incompressible soil).

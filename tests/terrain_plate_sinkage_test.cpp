@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <string>
 
@@ -80,6 +81,8 @@ TEST_P(PlateSinkageExponent, SettlesAtBekkerDepthForEveryMassAndCellSize) {
         const PlateRun run = settle_plate(soil, mass, cells_per_m);
         SCOPED_TRACE(::testing::Message() << "n = " << n << ", m = " << mass << " kg, " << cells_per_m
                                           << " cells/m: sinkage " << run.sinkage_m << " m, Bekker " << expected);
+        std::printf("plate n=%.1f m=%4.0f kg %2.0f cells/m: sinkage %.5f m, Bekker %.5f m, error %+.3f %%\n", n, mass,
+                    cells_per_m, run.sinkage_m, expected, 100.0 * (run.sinkage_m / expected - 1.0));
         EXPECT_NEAR(run.sinkage_m, expected, 0.02 * expected);
         EXPECT_LT(run.final_speed_m_s, 1e-5);
         EXPECT_NEAR(run.supported_N, mass * kGravity_m_s2, 0.01 * mass * kGravity_m_s2);
@@ -173,6 +176,53 @@ TEST(PlateSinkage, LeavesItsImprintAndReloadsAlongTheReloadLine) {
   EXPECT_GT(reload_points, 10);
   EXPECT_GT(loading_points, 50);
   EXPECT_TRUE(g.ledger().balanced());
+}
+
+}  // namespace
+}  // namespace skidsim::terrain
+
+namespace skidsim::terrain {
+namespace {
+
+// Soil regions: a plate straddling soft and stiff soil is carried by each
+// part of its footprint at that soil's pressure.
+TEST(SoilRegions, EachPartOfTheFootprintFollowsItsOwnSoil) {
+  for (double cells_per_m : {10.0, 20.0}) {
+    GranularGrid g = testing::flat_site(cells_per_m, 2.0, kSoilDepth, kDt);
+    SoilMechanics soft = soil_with_exponent(1.1), stiff = soft;
+    stiff.k_phi_kN_per_m_n2 *= 3.0;
+    SoilContactModel model(g, soft);
+    const int stiff_index = model.add_soil(stiff);
+    const int boundary_i = static_cast<int>(std::lround(1.0 * cells_per_m));  // x >= 1 - d/2 is stiff
+    for (int j = 0; j < g.ny(); ++j)
+      for (int i = boundary_i; i < g.nx(); ++i) model.set_soil_region(i, j, stiff_index);
+    const double boundary_x = (boundary_i - 0.5) / cells_per_m;
+    OrientedBox plate;
+    plate.half_extents_m = {0.5, 0.5, kPlateHalfThickness};
+    const double x0 = 0.6137;  // the plate spans x0 .. x0 + 1
+    const double z = 0.05;
+    BodyReaction r;
+    for (int k = 0; k <= 200; ++k) {
+      plate.centre_m = {x0 + 0.5, 1.0071, kSoilDepth - z * k / 200.0 + kPlateHalfThickness};
+      BodyMotion still;
+      still.reference_point_m = plate.centre_m;
+      r = model.interact(0, plate, still);
+      g.step();
+    }
+    const double soft_area = boundary_x - x0, stiff_area = 1.0 - soft_area;
+    const double expected = (soft_area * bekker_modulus_Pa(soft, 1.0) + stiff_area * bekker_modulus_Pa(stiff, 1.0)) *
+                            std::pow(z, soft.n);
+    EXPECT_NEAR(r.force_N.z(), expected, 0.01 * expected) << cells_per_m << " cells/m";
+    // The stiff side pushes harder: the pressure's centre moves towards it.
+    EXPECT_GT(r.shear_point_m.x(), x0 + 0.5 + 0.05);
+  }
+  EXPECT_THROW(
+      {
+        GranularGrid g = testing::flat_site(10.0, 1.0, kSoilDepth, kDt);
+        SoilContactModel model(g, SoilMechanics{});
+        model.set_soil_region(0, 0, 1);
+      },
+      std::invalid_argument);
 }
 
 }  // namespace
