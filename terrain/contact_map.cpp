@@ -253,6 +253,8 @@ void ContactMapper::build(const GranularGrid& grid, const BodyGeometry& body, co
       if (!(part.area > 0.0)) continue;
       CellContact& out = map->cells.emplace_back();
       out.cell = static_cast<std::uint32_t>(cell);
+      out.i = i;
+      out.j = j;
       out.covered_fraction = std::min(part.area, 1.0);
       out.bottom_z_m = bottom;
       out.depth_m = depth;

@@ -24,6 +24,7 @@ inline constexpr int kFaceCount = 4;
 
 struct CellContact {
   std::uint32_t cell = 0;
+  int i = 0, j = 0;               // the cell's column and row
   double covered_fraction = 0.0;  // of the cell's area, in (0, 1]
   double bottom_z_m = 0.0;        // the body's underside over the covered part
   double depth_m = 0.0;           // d0: the cell's surface minus bottom_z (> 0)

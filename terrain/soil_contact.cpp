@@ -179,7 +179,7 @@ double SoilContactModel::free_level_cap(int cell, double covered_fraction, int f
 bool SoilContactModel::interface_at(const CellContact& c, int f, Interface* out) const {
   const double d = grid_.cell_size_m();
   const int cell = static_cast<int>(c.cell);
-  const int i = cell % grid_.nx() + kStep[f][0], j = cell / grid_.nx() + kStep[f][1];
+  const int i = c.i + kStep[f][0], j = c.j + kStep[f][1];
   if (c.interface_w_m[f] > 0.0) {
     out->s_m = c.interface_s_m[f];
     out->w_m = c.interface_w_m[f];
@@ -205,13 +205,12 @@ double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface
   const double d = grid_.cell_size_m();
   const double t = std::tan(rho_rad);
   const double length_cap = 2.0 * face.depth_m / t;
-  const int cell = static_cast<int>(c.cell);
   wedge_cells_.clear();
   wedge_area_.clear();
   // The free part of the interface's own cell.
   double u = d - face.s_m;
   double total = clipped_section(face.depth_m, t, 0.0, u);
-  int i = cell % grid_.nx(), j = cell / grid_.nx();
+  int i = c.i, j = c.j;
   if (beyond_body) {
     // Pushed material lands beyond the body's own cells, never under it.
     while (map_slot(i + kStep[f][0], j + kStep[f][1]) >= 0) {
@@ -250,7 +249,7 @@ void SoilContactModel::push_material(const Push& push, const CellContact& c) {
   const int cell = static_cast<int>(c.cell);
   if (wedge_cells_.empty()) {
     // Nothing in front but the grid's edge: off-site over an open edge.
-    int i = cell % grid_.nx() + kStep[push.direction][0], j = cell / grid_.nx() + kStep[push.direction][1];
+    int i = c.i + kStep[push.direction][0], j = c.j + kStep[push.direction][1];
     while (map_slot(i, j) >= 0) {
       i += kStep[push.direction][0];
       j += kStep[push.direction][1];
@@ -281,20 +280,17 @@ void SoilContactModel::index_map(const ContactMap& map) {
   if (map.cells.empty()) return;
   int i0 = grid_.nx(), i1 = -1;
   for (const CellContact& c : map.cells) {
-    const int i = static_cast<int>(c.cell) % grid_.nx();
-    i0 = std::min(i0, i);
-    i1 = std::max(i1, i);
+    i0 = std::min(i0, c.i);
+    i1 = std::max(i1, c.i);
   }
   slot_i0_ = i0;
-  slot_j0_ = static_cast<int>(map.cells.front().cell) / grid_.nx();
+  slot_j0_ = map.cells.front().j;
   slot_ni_ = i1 - i0 + 1;
-  slot_nj_ = static_cast<int>(map.cells.back().cell) / grid_.nx() - slot_j0_ + 1;
+  slot_nj_ = map.cells.back().j - slot_j0_ + 1;
   slots_.assign(static_cast<std::size_t>(slot_ni_) * slot_nj_, -1);
-  for (std::size_t k = 0; k < map.cells.size(); ++k) {
-    const int cell = static_cast<int>(map.cells[k].cell);
-    slots_[static_cast<std::size_t>(cell / grid_.nx() - slot_j0_) * slot_ni_ + (cell % grid_.nx() - slot_i0_)] =
+  for (std::size_t k = 0; k < map.cells.size(); ++k)
+    slots_[static_cast<std::size_t>(map.cells[k].j - slot_j0_) * slot_ni_ + (map.cells[k].i - slot_i0_)] =
         static_cast<int>(k);
-  }
 }
 
 int SoilContactModel::map_slot(int i, int j) const {
@@ -337,9 +333,8 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
       const Interface& face = r.face;
       w.weight_N += gamma_g * face.w_m * walk_wedge(c, f, face, w.rho_rad, false);
       // The interface: from the cell edge behind it, s along the direction.
-      const int cell = static_cast<int>(c.cell);
       const Eigen::Vector2d centre =
-          grid_.spec().origin_m + d * Eigen::Vector2d(cell % grid_.nx(), cell / grid_.nx());
+          grid_.spec().origin_m + d * Eigen::Vector2d(c.i, c.j);
       Eigen::Vector3d p = c.point_m;
       const double offset = face.s_m - 0.5 * d;
       if (f < 2) p.x() = centre.x() + (f == 0 ? offset : -offset);
