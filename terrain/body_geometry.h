@@ -16,6 +16,10 @@ struct VerticalHit {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
 };
 
+// The contact map samples a body at the grid's cell corners: a body must be
+// at least a cell thick to be seen everywhere (a 2 cm plate edge in 5 cm
+// cells slips between corners). Thin tools (the bucket's cutting edge) are
+// for the bucket-filling model, which slices instead of pressing (6.4).
 class BodyGeometry {
  public:
   virtual ~BodyGeometry() = default;

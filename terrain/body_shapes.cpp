@@ -99,14 +99,20 @@ bool TriangleMesh::lowest_hit(double x_m, double y_m, double z_low_m, double z_h
     const double s = (w.x() * e2.y() - w.y() * e2.x()) / det, r = (e1.x() * w.y() - e1.y() * w.x()) / det;
     if (s < 0.0 || r < 0.0 || s + r > 1.0) continue;
     const double z = a.z() + s * (b.z() - a.z()) + r * (c.z() - a.z());
-    if (z < z_low_m || z > z_high_m || z >= best) continue;
+    // The first crossing above z_low, wherever it is: if it leaves the body
+    // (an upward face), z_low is inside even when the whole segment is.
+    if (z < z_low_m || z >= best) continue;
     best = z;
     best_normal = (b - a).cross(c - a).normalized();
   }
   if (!std::isfinite(best)) return false;
-  // The first crossing above z_low leaves the body (an upward face): z_low
-  // itself is inside.
-  hit->z_m = best_normal.z() > 0.0 ? z_low_m : best;
+  if (best_normal.z() > 0.0) {
+    hit->z_m = z_low_m;
+  } else if (best <= z_high_m) {
+    hit->z_m = best;
+  } else {
+    return false;
+  }
   hit->normal = best_normal;
   return true;
 }

@@ -158,10 +158,16 @@ void ContactMapper::build(const GranularGrid& grid, const BodyGeometry& body, co
   // Cells under the body's bounds (5.1): cell (i, j) spans
   // origin + d (i - 1/2 .. i + 1/2).
   const Eigen::AlignedBox3d bounds = body.world_bounds();
-  const int i0 = std::max(0, static_cast<int>(std::floor((bounds.min().x() - origin.x()) / d + 0.5)));
-  const int j0 = std::max(0, static_cast<int>(std::floor((bounds.min().y() - origin.y()) / d + 0.5)));
-  const int i1 = std::min(grid.nx() - 1, static_cast<int>(std::floor((bounds.max().x() - origin.x()) / d + 0.5)));
-  const int j1 = std::min(grid.ny() - 1, static_cast<int>(std::floor((bounds.max().y() - origin.y()) / d + 0.5)));
+  if (bounds.isEmpty() || !bounds.min().allFinite() || !bounds.max().allFinite()) return;
+  // Clamped in double before the conversion: a body far off the grid must
+  // not overflow an int.
+  const auto cell_index = [&](double coordinate, double grid_origin, int n) {
+    return static_cast<int>(std::clamp(std::floor((coordinate - grid_origin) / d + 0.5), -1.0, static_cast<double>(n)));
+  };
+  const int i0 = std::max(0, cell_index(bounds.min().x(), origin.x(), grid.nx()));
+  const int j0 = std::max(0, cell_index(bounds.min().y(), origin.y(), grid.ny()));
+  const int i1 = std::min(grid.nx() - 1, cell_index(bounds.max().x(), origin.x(), grid.nx()));
+  const int j1 = std::min(grid.ny() - 1, cell_index(bounds.max().y(), origin.y(), grid.ny()));
   if (i0 > i1 || j0 > j1) return;
   const int ci_n = i1 - i0 + 2, cj_n = j1 - j0 + 2;  // corners
   corners_.resize(static_cast<std::size_t>(ci_n) * cj_n);

@@ -53,11 +53,23 @@ void SoilContactModel::set_soil_region(int i, int j, int soil_index) {
 void SoilContactModel::release(int body_id) {
   if (body_id < 0 || body_id >= static_cast<int>(bodies_.size())) return;
   BodyState& state = bodies_[body_id];
-  for (std::uint32_t c : state.covered) grid_.set_covered(static_cast<int>(c), false);
+  for (std::uint32_t c : state.covered) cover(c, false);
   state.covered.clear();
   state.map.clear();
   state.next.clear();
   state.in_contact = false;
+}
+
+void SoilContactModel::cover(std::uint32_t cell, bool on) {
+  // Several bodies may cover one cell: it blocks the avalanches while any
+  // of them does.
+  if (cover_count_.empty()) cover_count_.assign(static_cast<std::size_t>(grid_.nx()) * grid_.ny(), 0);
+  std::uint8_t& count = cover_count_[cell];
+  if (on) {
+    if (count++ == 0) grid_.set_covered(static_cast<int>(cell), true);
+  } else if (count > 0 && --count == 0) {
+    grid_.set_covered(static_cast<int>(cell), false);
+  }
 }
 
 void SoilContactModel::update_covered(BodyState& state) {
@@ -72,9 +84,9 @@ void SoilContactModel::update_covered(BodyState& state) {
   std::size_t n = 0;
   while (k < before.size() || n < now.size()) {
     if (n >= now.size() || (k < before.size() && before[k] < now[n])) {
-      grid_.set_covered(static_cast<int>(before[k++]), false);
+      cover(before[k++], false);
     } else if (k >= before.size() || now[n] < before[k]) {
-      grid_.set_covered(static_cast<int>(now[n++]), true);
+      cover(now[n++], true);
     } else {
       ++k;
       ++n;
@@ -90,6 +102,22 @@ double SoilContactModel::free_surface_m(int cell, double covered_fraction, doubl
   return (surface - covered_fraction * covered_level_m) / (1.0 - covered_fraction);
 }
 
+double SoilContactModel::plastic_sinkage_under(int cell, double covered_fraction) const {
+  // plastic_ is the volume taken from under bodies (a height over the cell)
+  // and pressed_ the largest fraction of the cell it was taken from: per
+  // unit of pressed area it is plastic_ / pressed_. A body covering more
+  // than that area covers unpressed soil too, hence the max.
+  return plastic_[cell] / std::max({static_cast<double>(pressed_[cell]), covered_fraction, 1e-9});
+}
+
+void SoilContactModel::record_plastic(CellContact& c, std::int64_t quanta) {
+  if (quanta <= 0) return;
+  const double height = quanta * kHeightQuantumM;
+  plastic_[c.cell] += static_cast<float>(height);
+  pressed_[c.cell] = std::max(pressed_[c.cell], static_cast<float>(c.covered_fraction));
+  if (c.covered_fraction < kFullyCovered) c.covered_level_m -= height / c.covered_fraction;
+}
+
 void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReaction& out) {
   const int cell = static_cast<int>(c.cell);
   const SoilRegion& region = region_at(cell);
@@ -99,10 +127,10 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
   const double area = c.covered_fraction * d * d;
   const bool full = c.covered_fraction >= kFullyCovered;
   const double level = full ? grid_.surface_at(cell) : c.covered_level_m;
-  // Sinkage of the covered part from its undisturbed level: the material
-  // already removed plastically from under it (compacted or pushed aside,
-  // kept per cell as a height f z_p) counted back.
-  const double sinkage = level + plastic_[cell] / c.covered_fraction - c.bottom_z_m;
+  // Sinkage of the covered part from its undisturbed level: the plastic
+  // sinkage already realised under it counted back.
+  const double realised = plastic_sinkage_under(cell, c.covered_fraction);
+  const double sinkage = level + realised - c.bottom_z_m;
   const double peak = peak_[cell];
   const PressureSlope ps = bekker_pressure(soil, modulus_Pa, peak, sinkage);
   double pressure = ps.pressure_Pa;
@@ -112,27 +140,23 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
     // z_max - p(z_max) / k_u.
     peak_[cell] = static_cast<float>(sinkage);
     const double plastic = std::max(0.0, sinkage - pressure / unload_stiffness_Pa_per_m(soil, sinkage));
-    const double more = c.covered_fraction * plastic - plastic_[cell];
-    if (more > 0.0) {
-      const auto quanta = static_cast<std::int64_t>(more / kHeightQuantumM);
-      if (soil.model == VerticalLoadModel::kBekker) {
-        // Compressible: the soil under the body compacts.
-        const std::int64_t done = grid_.compact_quanta(cell, quanta);
-        out.compacted_m3 += done * grid_.quantum_volume_m3();
-        plastic_[cell] += static_cast<float>(done * kHeightQuantumM);
-        if (!full) c.covered_level_m -= done * kHeightQuantumM / c.covered_fraction;
-      } else if (quanta > 0) {
-        // Incompressible (5.3): the same volume leaves from under the load
-        // for the contour of the pressed zone, away from the footprint's
-        // middle.
-        const std::int64_t done = std::min(quanta, grid_.loose_quanta(cell));
-        const Eigen::Vector2d outward = c.point_m.head<2>() - current_footprint_centre_;
-        const int direction = std::abs(outward.x()) >= std::abs(outward.y()) ? (outward.x() >= 0.0 ? 0 : 1)
-                                                                             : (outward.y() >= 0.0 ? 2 : 3);
-        pushes_.push_back({c.cell, direction, done * kHeightQuantumM});
-        plastic_[cell] += static_cast<float>(done * kHeightQuantumM);
-        if (!full) c.covered_level_m -= done * kHeightQuantumM / c.covered_fraction;
-      }
+    // The volume (as a height over the cell) to take from under the body.
+    const double more = c.covered_fraction * (plastic - realised);
+    const auto quanta = more > 0.0 ? static_cast<std::int64_t>(more / kHeightQuantumM) : 0;
+    if (quanta > 0 && soil.model == VerticalLoadModel::kBekker) {
+      // Compressible: the soil under the body compacts.
+      const std::int64_t done = grid_.compact_quanta(cell, quanta);
+      out.compacted_m3 += done * grid_.quantum_volume_m3();
+      record_plastic(c, done);
+    } else if (quanta > 0) {
+      // Incompressible (5.3): the same volume leaves from under the load
+      // for the contour of the pressed zone, away from the footprint's
+      // middle; recorded once it has moved (it cannot where a wall or
+      // another body is in the way: the soil is confined).
+      const Eigen::Vector2d outward = c.point_m.head<2>() - current_footprint_centre_;
+      const int direction = std::abs(outward.x()) >= std::abs(outward.y()) ? (outward.x() >= 0.0 ? 0 : 1)
+                                                                           : (outward.y() >= 0.0 ? 2 : 3);
+      pushes_.push_back({c.cell, direction, quanta * kHeightQuantumM, true});
     }
   }
   const double sink_rate = -c.velocity_m_s.z();
@@ -357,8 +381,8 @@ void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMo
   update_covered(state);
   for (CellContact& c : state.next.cells) {
     const int cell = static_cast<int>(c.cell);
-    const double plastic = plastic_.empty() ? 0.0 : plastic_[cell];
-    c.covered_level_m = std::min(grid_.surface_at(cell) + plastic - plastic / c.covered_fraction, c.bottom_z_m);
+    const double realised = plastic_.empty() ? 0.0 : plastic_[cell] - plastic_sinkage_under(cell, c.covered_fraction);
+    c.covered_level_m = std::min(grid_.surface_at(cell) + realised, c.bottom_z_m);
   }
   std::swap(state.map, state.next);
   state.in_contact = !state.map.cells.empty();
@@ -376,6 +400,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
   if (peak_.empty() && !now.cells.empty()) {
     peak_.assign(static_cast<std::size_t>(grid_.nx()) * grid_.ny(), 0.0f);
     plastic_.assign(peak_.size(), 0.0f);
+    pressed_.assign(peak_.size(), 0.0f);
   }
   current_footprint_centre_ = Eigen::Vector2d::Zero();
   if (!now.footprint.isEmpty()) current_footprint_centre_ = now.footprint.center();
@@ -392,8 +417,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
     const double surface = grid_.surface_at(cell);
     // A cell the body did not touch before: the level of its soil under the
     // covered part, if the cell's compaction (an old imprint) lies there.
-    const double plastic = plastic_[cell];
-    const double untouched_level = surface + plastic - plastic / c.covered_fraction;
+    const double untouched_level = surface + plastic_[cell] - plastic_sinkage_under(cell, c.covered_fraction);
     double covered_before = 0.0, level_before = untouched_level;
     if (previous) {
       covered_before = previous->covered_fraction;
@@ -438,18 +462,24 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
                           c.covered_fraction;
     }
     if (pushed > 0.0) {
-      pushes_.push_back({c.cell, direction, pushed});
+      pushes_.push_back({c.cell, direction, pushed, false});
       continue;
     }
     press(c, motion, out);
   }
   for (const Push& p : pushes_) {
-    const auto it = std::lower_bound(now.cells.begin(), now.cells.end(), p.cell,
+    const auto it = std::lower_bound(state.next.cells.begin(), state.next.cells.end(), p.cell,
                                      [](const CellContact& c, std::uint32_t cell) { return c.cell < cell; });
     const std::int64_t before_push = grid_.loose_quanta(static_cast<int>(p.cell));
     push_material(p, *it);
-    out.displaced_m3 += (before_push - grid_.loose_quanta(static_cast<int>(p.cell))) * grid_.quantum_volume_m3();
+    const std::int64_t moved = before_push - grid_.loose_quanta(static_cast<int>(p.cell));
+    out.displaced_m3 += moved * grid_.quantum_volume_m3();
+    if (p.plastic) record_plastic(*it, moved);
   }
+  // A fully covered cell's soil stands at its surface: keep that level for
+  // when the body uncovers part of it.
+  for (CellContact& c : state.next.cells)
+    if (c.covered_fraction >= kFullyCovered) c.covered_level_m = grid_.surface_at(static_cast<int>(c.cell));
   wedge_reactions(now, out);
 
   const double vertical = out.force_N.z();

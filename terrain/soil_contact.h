@@ -119,6 +119,7 @@ class SoilContactModel {
     std::uint32_t cell;
     int direction;
     double height_m;  // material to move, as a height over the cell
+    bool plastic;     // the plastic sinkage of an incompressible soil (else swept by an advancing interface)
   };
 
   // A vertical interface of a contact cell on one side (5.2.3).
@@ -129,6 +130,12 @@ class SoilContactModel {
   };
 
   void update_covered(BodyState& state);
+  void cover(std::uint32_t cell, bool on);
+  // Plastic sinkage already realised under the covered part of a cell.
+  double plastic_sinkage_under(int cell, double covered_fraction) const;
+  // Records `quanta` taken plastically from under contact c (compacted or
+  // pushed aside): the cell's plastic record and its covered part's level.
+  void record_plastic(CellContact& c, std::int64_t quanta);
   struct SoilRegion {
     SoilMechanics soil;
     double phi_rad = 0.0;
@@ -164,9 +171,12 @@ class SoilContactModel {
   std::vector<double> region_width_;          // wedge scratch
   // Per cell, allocated at the first contact: the largest sinkage reached
   // (start of the reload line) and the plastic sinkage realised, as a height
-  // over the cell (compacted, or pushed aside by an incompressible soil).
+  // over the cell (compacted, or pushed aside by an incompressible soil),
+  // with the fraction of the cell it was taken from.
   std::vector<float> peak_;
   std::vector<float> plastic_;
+  std::vector<float> pressed_;  // largest covered fraction plastic_ was taken from
+  std::vector<std::uint8_t> cover_count_;  // bodies covering each cell completely
   Eigen::Vector2d current_footprint_centre_ = Eigen::Vector2d::Zero();
   std::vector<BodyState> bodies_;
   ContactMapper mapper_;
