@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "terrain/body_shapes.h"
@@ -127,6 +128,8 @@ TEST(FractureWedge, ResistanceGrowsAsSoilPilesUpAndMaterialIsConservedOverTenMet
     SCOPED_TRACE(cells_per_m);
     const PushRecord rec = push_blade(cells_per_m, 10.0, 1.0);
     ASSERT_GE(rec.resistance_N.size(), 20u);
+    std::printf("blade push, %.0f cells/m: resistance %.0f N at the start, %.0f N after 2 m, %.0f N after 10 m\n",
+                cells_per_m, rec.resistance_N.front(), rec.resistance_N[4], rec.resistance_N.back());
     const SoilMechanics soil;
     const double flat = flat_ground_wedge(soil.friction_angle_deg * kPi / 180.0, 1600.0, 0.2, 1.0).force_N;
     EXPECT_NEAR(rec.resistance_N.front(), flat, 0.05 * flat);
