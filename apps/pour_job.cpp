@@ -1,7 +1,5 @@
 #include "apps/pour_job.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -10,32 +8,14 @@
 #include <vector>
 
 #include "apps/progress.h"
+#include "apps/run_directory.h"
 #include "io/atomic_file.h"
 #include "io/heightmap.h"
 #include "io/soil_table.h"
 #include "terrain/pile_metrics.h"
 
 namespace skidsim::apps {
-namespace {
-
 using nlohmann::json;
-
-io::Heightmap snapshot(const terrain::GranularGrid& grid, const std::string& quantity) {
-  io::Heightmap map;
-  map.nx = grid.nx();
-  map.ny = grid.ny();
-  map.cell_size_m = grid.cell_size_m();
-  map.origin_m = grid.spec().origin_m;
-  map.quantity = quantity;
-  map.height_m.resize(static_cast<std::size_t>(map.nx) * map.ny);
-  for (int j = 0; j < map.ny; ++j)
-    for (int i = 0; i < map.nx; ++i)
-      map.height_m[static_cast<std::size_t>(grid.index(i, j))] =
-          quantity == "surface" ? grid.surface_m(i, j) : grid.material_m(i, j);
-  return map;
-}
-
-}  // namespace
 
 int run_pour_job(const PourJob& job) {
   namespace fs = std::filesystem;
@@ -119,19 +99,9 @@ int run_pour_job(const PourJob& job) {
       job.pour_rate_kg_per_s * job.step_dt_s / soil.bulk_density_kg_m3 / static_cast<double>(outlet.size());
 
   // Everything is written into a fresh sibling folder, which replaces the run
-  // directory only once complete: a failed run leaves the previous results
-  // (or nothing), never a mixture.
-  const fs::path out_dir = fs::path(job.out_dir).lexically_normal();
-  const fs::path staging = out_dir.string() + ".partial-" + std::to_string(::getpid());
-  fs::remove_all(staging);
-  fs::create_directories(staging);
-  struct StagingCleanup {
-    fs::path dir;
-    ~StagingCleanup() {
-      std::error_code ignored;
-      if (!dir.empty()) fs::remove_all(dir, ignored);
-    }
-  } cleanup{staging};
+  // directory only once complete.
+  StagedRunDirectory run_dir(job.out_dir);
+  const fs::path staging = run_dir.staging();
   const double total_s = job.pour_duration_s + job.max_settle_s;
   Progress progress("pour", total_s);
   std::int64_t step = 0;
@@ -161,8 +131,8 @@ int run_pour_job(const PourJob& job) {
   const double sim_s = step * job.step_dt_s;
   const double wall_s = progress.wall_seconds();
 
-  const auto surface_info = io::write_heightmap((staging / "terrain_surface").string(), snapshot(grid, "surface"));
-  const auto material_info = io::write_heightmap((staging / "terrain_material").string(), snapshot(grid, "material"));
+  const auto surface_info = io::write_heightmap((staging / "terrain_surface").string(), terrain_snapshot(grid, "surface"));
+  const auto material_info = io::write_heightmap((staging / "terrain_material").string(), terrain_snapshot(grid, "material"));
 
   const terrain::PileMetrics pile = terrain::measure_pile(grid, ci, cj, initial_centre_m + 0.005);
   const terrain::MaterialLedger ledger = grid.ledger();
@@ -216,15 +186,7 @@ int run_pour_job(const PourJob& job) {
                  {"material_vertical_scale_m", material_info.vertical_scale_m}}},
   };
   io::write_text_atomically((staging / "summary.json").string(), summary.dump(2) + "\n");
-  if (fs::exists(out_dir)) {
-    const fs::path replaced = out_dir.string() + ".replaced-" + std::to_string(::getpid());
-    fs::rename(out_dir, replaced);
-    fs::rename(staging, out_dir);
-    fs::remove_all(replaced);
-  } else {
-    fs::rename(staging, out_dir);
-  }
-  cleanup.dir.clear();
+  run_dir.commit();
 
   std::cout << "poured " << summary["pour"]["poured_kg"].get<double>() << " kg of " << soil.name << " on a "
             << spec.nx << " x " << spec.ny << " grid (" << spec.cell_size_m << " m cells); "

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "apps/pour_job.h"
+#include "apps/push_job.h"
 #include "io/atomic_file.h"
 #include "io/soil_table.h"
 
@@ -77,6 +78,20 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   pour_cmd->add_flag("--open-edges", pour.open_edges, "Site edges are drop-offs (material leaving is counted off-site) instead of walls");
 
+  skidsim::apps::PushJob push;
+  CLI::App* push_cmd = app.add_subcommand(
+      "push", "Push a vertical blade through a flat layer of soil and record its resistance along the push\n"
+              "(the thesis's fig. 7.12): summary.json, resistance.csv, the final terrain height map");
+  push_cmd->add_option("--out", push.out_dir, "Run directory to write")->capture_default_str();
+  push_cmd->add_option("--soil", push.soil_id, "Soil id from the soil table")->capture_default_str();
+  push_cmd->add_option("--soil-table", push.soil_table_path, "Soil table XML (default: assets/soils.xml)");
+  push_cmd->add_option("--cells-per-m", push.cells_per_m, "Grid density, cells per metre")->capture_default_str();
+  push_cmd->add_option("--layer-m", push.layer_m, "Depth of the flat layer of soil, m")->capture_default_str();
+  push_cmd->add_option("--depth-m", push.depth_m, "Blade edge below the surface (H), m")->capture_default_str();
+  push_cmd->add_option("--width-m", push.width_m, "Blade width (B), m")->capture_default_str();
+  push_cmd->add_option("--speed-m-s", push.speed_m_s, "Push speed, m/s")->capture_default_str();
+  push_cmd->add_option("--distance-m", push.distance_m, "Length of the push, m")->capture_default_str();
+
   bool bench_json = false;
   std::string bench_filter, bench_out;
   double bench_min_time = 0.0;
@@ -94,6 +109,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*pour_cmd) return skidsim::apps::run_pour_job(pour);
+    if (*push_cmd) return skidsim::apps::run_push_job(push);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
   } catch (const skidsim::io::InputError& e) {

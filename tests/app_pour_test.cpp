@@ -11,25 +11,15 @@
 #include <nlohmann/json.hpp>
 
 #include "io/heightmap.h"
+#include "tests/app_support.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
+using Result = skidsim::testing::CommandResult;
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string(SKIDSIM_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+Result run(const std::string& args) { return skidsim::testing::run_skidsim(args); }
 
 TEST(SkidsimPour, WritesARunDirectory) {
   const fs::path dir = fs::temp_directory_path() / "skidsim_pour_e2e";
