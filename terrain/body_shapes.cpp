@@ -23,9 +23,12 @@ Eigen::AlignedBox3d OrientedBox::world_bounds() const {
 bool OrientedBox::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const {
   // Slab test of the vertical line p(t) = (x, y, t) in the box frame:
   // p_box(t) = a + t u.
+  // Written out: called for every corner of every contact map.
   const Eigen::Matrix3d& r = rotation();
-  const Eigen::Vector3d a = r.transpose() * (Eigen::Vector3d(x_m, y_m, 0.0) - centre_m);
-  const Eigen::Vector3d u = r.transpose().col(2);
+  const double px = x_m - centre_m.x(), py = y_m - centre_m.y(), pz = -centre_m.z();
+  const Eigen::Vector3d a(r(0, 0) * px + r(1, 0) * py + r(2, 0) * pz, r(0, 1) * px + r(1, 1) * py + r(2, 1) * pz,
+                          r(0, 2) * px + r(1, 2) * py + r(2, 2) * pz);
+  const Eigen::Vector3d u(r(2, 0), r(2, 1), r(2, 2));
   double t_in = -std::numeric_limits<double>::infinity(), t_out = std::numeric_limits<double>::infinity();
   int entry_axis = 2;
   for (int k = 0; k < 3; ++k) {

@@ -1,7 +1,8 @@
 // Randomised check of the sweep's equivalences on many small sites: sparse,
 // dense, automatic and shuffled sweeps must agree bit for bit after every
 // step, on flat, tilted and rough bases, with open and closed edges, pours,
-// removals and base changes; the ledger must balance and no cell go negative.
+// removals, base changes, covered cells, compaction and pushed material; the
+// ledger must balance and no cell go negative.
 // (The dense sweep examines every cell, so agreement also checks that a cell
 // left out of the active set really has nothing to do.)
 #include <gtest/gtest.h>
@@ -66,6 +67,11 @@ TEST(SweepEquivalence, SparseDenseAutoAndShuffledAgreeOnRandomSites) {
         if (action == 0) x->add_material_m3(i, j, amount);
         if (action == 1) x->remove_material_m3(i, j, amount);
         if (action == 2) x->set_base_m(i, j, amount * 50 - 0.25);
+        // What bodies do to the grid: cover cells (no flux across their
+        // faces), compact material, push it to a neighbour.
+        if (action == 3) x->set_covered(x->index(i, j), !x->covered(x->index(i, j)));
+        if (action == 4) x->compact_quanta(x->index(i, j), static_cast<std::int64_t>(amount * 1e9));
+        if (action == 5) x->transfer_quanta(x->index(i, j), x->index(spec.nx - 1 - i, j), static_cast<std::int64_t>(amount * 1e9));
         x->step();
       }
       for (std::size_t k = 1; k < g.size(); ++k) {
