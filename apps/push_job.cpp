@@ -34,9 +34,12 @@ int run_push_job(const PushJob& job) {
   require(job.layer_m > 0.0 && job.layer_m <= 10.0, "--layer-m", job.layer_m, "more than 0 and at most 10 m");
   require(job.depth_m > 0.0 && job.depth_m < job.layer_m, "--depth-m", job.depth_m,
           "more than 0 and less than the layer (--layer-m)");
-  require(job.width_m > 0.0 && job.width_m <= 10.0, "--width-m", job.width_m, "more than 0 and at most 10 m");
-  require(job.speed_m_s > 0.0 && job.speed_m_s <= 10.0, "--speed-m-s", job.speed_m_s, "more than 0 and at most 10 m/s");
+  require(job.width_m >= 2.0 / job.cells_per_m && job.width_m <= 10.0, "--width-m", job.width_m,
+          "at least two cells and at most 10 m");
+  require(job.speed_m_s >= 0.01 && job.speed_m_s <= 10.0, "--speed-m-s", job.speed_m_s, "0.01 to 10 m/s");
   require(job.distance_m > 0.0 && job.distance_m <= 100.0, "--distance-m", job.distance_m, "more than 0 and at most 100 m");
+  require(job.distance_m / job.speed_m_s <= 600.0, "--distance-m", job.distance_m,
+          "a push of at most 600 s at --speed-m-s");
   const double cells = (job.distance_m + 3.0) * job.cells_per_m * (job.width_m + 3.0) * job.cells_per_m;
   require(cells <= 4.0e7, "--cells-per-m", job.cells_per_m, "a site of at most 4e7 cells for this push");
 

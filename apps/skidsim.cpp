@@ -106,7 +106,13 @@ int main(int argc, char** argv) {
   CLI::App* soils_cmd = app.add_subcommand("soils", "List the soils of the soil table");
   soils_cmd->add_option("--table", soil_table, "Soil table XML")->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; anything else the command line got wrong
+    // is bad input: 2, like every other bad input.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   try {
     if (*pour_cmd) return skidsim::apps::run_pour_job(pour);
     if (*push_cmd) return skidsim::apps::run_push_job(push);

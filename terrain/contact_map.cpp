@@ -227,6 +227,8 @@ void ContactMapper::build(const GranularGrid& grid, const BodyGeometry& body, co
     }
   }
 
+  // Moments of the covered area, for Bekker's b (below).
+  double area = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0, sxy = 0.0, own = 0.0;
   for (int j = j0; j <= j1; ++j) {
     for (int i = i0; i <= i1; ++i) {
       const int ci = i - i0, cj = j - j0;
@@ -273,9 +275,27 @@ void ContactMapper::build(const GranularGrid& grid, const BodyGeometry& body, co
         out.interface_s_m[f] = d * part.s[f];
         out.interface_w_m[f] = d * part.w[f];
       }
+      const double a = out.covered_fraction * d * d;
+      area += a;
+      sx += a * out.point_m.x();
+      sy += a * out.point_m.y();
+      sxx += a * out.point_m.x() * out.point_m.x();
+      syy += a * out.point_m.y() * out.point_m.y();
+      sxy += a * out.point_m.x() * out.point_m.y();
+      own += a * out.covered_fraction * d * d / 12.0;  // the cell's own spread about its centroid
     }
   }
-  if (!map->footprint.isEmpty()) map->footprint_b_m = map->footprint.sizes().minCoeff();
+  if (area > 0.0) {
+    // Bekker's b, the smaller side of the footprint, whatever way the body
+    // is turned: a rectangle b wide has the smaller principal second moment
+    // A b^2 / 12 (the thesis's bounding box along the grid's axes would
+    // make b, and the pressure, change with the body's yaw).
+    const double mx = sx / area, my = sy / area;
+    const double cxx = sxx / area - mx * mx + own / area, cyy = syy / area - my * my + own / area;
+    const double cxy = sxy / area - mx * my;
+    const double smaller = 0.5 * (cxx + cyy - std::sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy));
+    map->footprint_b_m = std::sqrt(12.0 * std::max(smaller, 0.0));
+  }
 }
 
 }  // namespace skidsim::terrain

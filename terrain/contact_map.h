@@ -48,7 +48,10 @@ struct CellContact {
 struct ContactMap {
   std::vector<CellContact> cells;  // in increasing cell index
   Eigen::AlignedBox2d footprint;   // bounds of the covered area (world x, y)
-  double footprint_b_m = 0.0;      // its smaller side: Bekker's b (5.4.1)
+  // Bekker's b (5.4.1), the footprint's smaller side: that of the rectangle
+  // with the footprint's principal second moments (turning the body does not
+  // change it).
+  double footprint_b_m = 0.0;
   std::int64_t segment_tests = 0;  // BodyGeometry queries made
   void clear() {
     cells.clear();

@@ -10,6 +10,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kFullyCovered = 1.0 - 1e-9;
+constexpr int kMaxBodyId = 65535;
 constexpr int kStep[kFaceCount][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
 
 double radians(double deg) { return deg * kPi / 180.0; }
@@ -134,7 +135,7 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
   const double peak = peak_[cell];
   const PressureSlope ps = bekker_pressure(soil, modulus_Pa, peak, sinkage);
   double pressure = ps.pressure_Pa;
-  const double slope = ps.slope_Pa_per_m;
+  double slope = ps.slope_Pa_per_m;
   if (sinkage > peak) {
     // Loading: the plastic part of the new peak stays (5.4.1, d_p into z),
     // z_max - p(z_max) / k_u.
@@ -165,6 +166,14 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
     damping = 1000.0 * soil.damping_kPa_s_per_m;
     pressure = std::max(0.0, pressure + damping * sink_rate);
   }
+  // A cell the body is leaving faster than the soil springs back carries
+  // nothing, and must not report stiffness or damping either: applied
+  // implicitly they would pull the body back as if the soil were sticky.
+  if (pressure <= 0.0) {
+    pressure = 0.0;
+    slope = 0.0;
+    damping = 0.0;
+  }
   const double base_penetration = static_cast<double>(grid_.base_at(cell)) - c.bottom_z_m;
   double base_force = 0.0, base_stiffness = 0.0;
   if (base_penetration > 0.0) {
@@ -183,10 +192,18 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
   out.torque_Nm += (c.point_m - motion.reference_point_m).cross(force);
   out.normal_stiffness_N_per_m += slope * area + base_stiffness;
   out.normal_damping_N_s_per_m += damping * area;
-  // Mohr-Coulomb on the soil-tool contact (5.4.2): (a + sigma_n tan delta) A.
-  out.shear_bound_N += 1000.0 * soil.tool_adhesion_kPa * area + vertical * region.tan_tool_friction;
-  out.shear_point_m += vertical * c.point_m;
+  if (vertical <= 0.0) return;
+  // Mohr-Coulomb on the soil-tool contact (5.4.2): (a + sigma_n tan delta) A,
+  // over the cells that carry load; it acts where its parts do.
+  const double shear = 1000.0 * soil.tool_adhesion_kPa * area + vertical * region.tan_tool_friction;
+  out.shear_bound_N += shear;
+  out.shear_point_m += shear * c.point_m;
   out.contact_area_m2 += area;
+}
+
+int SoilContactModel::region_in_front(const CellContact& c, int f) const {
+  const int i = c.i + kStep[f][0], j = c.j + kStep[f][1];
+  return grid_.contains(i, j) ? region_index(grid_.index(i, j)) : region_index(static_cast<int>(c.cell));
 }
 
 double SoilContactModel::free_level_cap(int cell, double covered_fraction, int f) const {
@@ -268,7 +285,7 @@ void SoilContactModel::push_material(const Push& push, const CellContact& c) {
     face.s_m = grid_.cell_size_m();
     face.depth_m = std::max(push.height_m, grid_.cell_size_m());
   }
-  walk_wedge(c, push.direction, face, region_at(static_cast<int>(c.cell)).rho_table.rho_rad(0.0), true);
+  walk_wedge(c, push.direction, face, regions_[region_in_front(c, push.direction)].rho_table.rho_rad(0.0), true);
   const auto quanta = static_cast<std::int64_t>(push.height_m / kHeightQuantumM);
   const int cell = static_cast<int>(c.cell);
   if (wedge_cells_.empty()) {
@@ -340,10 +357,11 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
       if (r.direction != f) continue;
       width += r.face.w_m;
       depth_width += r.face.w_m * r.face.depth_m;
-      region_width_[region_index(static_cast<int>(map.cells[r.contact].cell))] += r.face.w_m;
+      region_width_[region_in_front(map.cells[r.contact], f)] += r.face.w_m;
     }
     if (width <= 0.0) continue;
-    // One soil per wedge: the one in front of most of the interfaces' width.
+    // One soil per wedge: the one in front of most of the interfaces' width
+    // (the wedge is made of it).
     const SoilRegion& region =
         regions_[std::max_element(region_width_.begin(), region_width_.end()) - region_width_.begin()];
     WedgeReaction& w = out.wedge[f];
@@ -374,7 +392,8 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
 }
 
 void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
-  if (body_id < 0) throw std::invalid_argument("SoilContactModel::embed: body_id must be >= 0");
+  if (body_id < 0 || body_id > kMaxBodyId)
+    throw std::invalid_argument("SoilContactModel::embed: body_id must be in [0, 65535]");
   if (body_id >= static_cast<int>(bodies_.size())) bodies_.resize(body_id + 1);
   BodyState& state = bodies_[body_id];
   mapper_.build(grid_, body, motion, &state.next);
@@ -389,7 +408,8 @@ void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMo
 }
 
 BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
-  if (body_id < 0) throw std::invalid_argument("SoilContactModel::interact: body_id must be >= 0");
+  if (body_id < 0 || body_id > kMaxBodyId)
+    throw std::invalid_argument("SoilContactModel::interact: body_id must be in [0, 65535]");
   if (body_id >= static_cast<int>(bodies_.size())) bodies_.resize(body_id + 1);
   BodyState& state = bodies_[body_id];
   mapper_.build(grid_, body, motion, &state.next);
@@ -482,8 +502,8 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
     if (c.covered_fraction >= kFullyCovered) c.covered_level_m = grid_.surface_at(static_cast<int>(c.cell));
   wedge_reactions(now, out);
 
-  const double vertical = out.force_N.z();
-  out.shear_point_m = vertical > 0.0 ? Eigen::Vector3d(out.shear_point_m / vertical) : motion.reference_point_m;
+  out.shear_point_m =
+      out.shear_bound_N > 0.0 ? Eigen::Vector3d(out.shear_point_m / out.shear_bound_N) : motion.reference_point_m;
   out.contact_cells = static_cast<int>(now.cells.size());
   std::swap(state.map, state.next);
   state.in_contact = !state.map.cells.empty();

@@ -61,8 +61,8 @@ struct BodyReaction {
   Eigen::Vector3d torque_Nm = Eigen::Vector3d::Zero();  // about BodyMotion::reference_point_m
   double normal_stiffness_N_per_m = 0.0;
   double normal_damping_N_s_per_m = 0.0;
-  // Mohr-Coulomb (5.4.2): bound on the horizontal shear force, acting at
-  // `shear_point_m`, the centre of pressure.
+  // Mohr-Coulomb (5.4.2): bound on the horizontal shear force over the
+  // cells that carry load, acting at `shear_point_m` (its parts' centre).
   double shear_bound_N = 0.0;
   Eigen::Vector3d shear_point_m = Eigen::Vector3d::Zero();
   // Per direction of motion +x, -x, +y, -y: the wedge that resists it.
@@ -145,6 +145,9 @@ class SoilContactModel {
   };
   int region_index(int cell) const { return region_of_cell_.empty() ? 0 : region_of_cell_[cell]; }
   const SoilRegion& region_at(int cell) const { return regions_[region_index(cell)]; }
+  // The soil of the cell in front of contact c in direction f (its own
+  // where the grid ends).
+  int region_in_front(const CellContact& c, int f) const;
 
   void press(CellContact& c, const BodyMotion& motion, BodyReaction& out);
   void push_material(const Push& push, const CellContact& c);

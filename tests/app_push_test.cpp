@@ -46,11 +46,26 @@ TEST(SkidsimPush, BadOptionsAreRefusedNamingTheOption) {
     std::string args, expected;
   };
   for (const Case& c : {Case{"--depth-m 0.5 --layer-m 0.4", "--depth-m"}, Case{"--cells-per-m 0.5", "--cells-per-m"},
-                        Case{"--speed-m-s -1", "--speed-m-s"}, Case{"--soil mud", "mud"}}) {
+                        Case{"--speed-m-s -1", "--speed-m-s"}, Case{"--speed-m-s 1e-9", "--speed-m-s"},
+                        Case{"--width-m 1e-300", "--width-m"}, Case{"--cells-per-m abc", "--cells-per-m"},
+                        Case{"--depth-m nan", "--depth-m"}, Case{"--soil mud", "mud"}}) {
     const auto r = run_skidsim("push --out " + dir.string() + " " + c.args);
     EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_FALSE(fs::exists(dir)) << c.args;
+  }
+}
+
+TEST(SkidsimPush, RunDirectoryNamesAreCheckedAndATrailingSlashIsFine) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_push_slash";
+  fs::remove_all(dir);
+  const auto ok = run_skidsim("push --distance-m 0.1 --cells-per-m 10 --out " + dir.string() + "/");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_TRUE(fs::exists(dir / "summary.json"));
+  for (const std::string out : {"\".\"", "\"\"", "\"..\""}) {
+    const auto bad = run_skidsim("push --distance-m 0.1 --out " + out);
+    EXPECT_EQ(bad.exit_code, 2) << out << "\n" << bad.output;
+    EXPECT_NE(bad.output.find("--out"), std::string::npos) << bad.output;
   }
 }
 

@@ -98,6 +98,64 @@ TEST(ContactCases, SlidingOffPartOfTheImprintKeepsSinkagesBounded) {
   EXPECT_TRUE(g.ledger().balanced());
 }
 
+// A body leaving the soil faster than it springs back: no force, and no
+// stiffness or damping that an implicit step would turn into a pull.
+TEST(ContactCases, ABodyLiftingOffReportsNoStiffnessOrDamping) {
+  GranularGrid g = testing::flat_site(20.0, 2.0, kDepth);
+  SoilContactModel model(g, SoilMechanics{});
+  OrientedBox plate;
+  plate.half_extents_m = {0.5, 0.5, 0.05};
+  for (int k = 0; k <= 50; ++k) {
+    plate.centre_m = {1.0137, 1.0071, kDepth + 0.05 - 0.05 * k / 50.0};
+    model.interact(0, plate, still_at(plate.centre_m));
+  }
+  plate.centre_m.z() += 0.001;
+  BodyMotion rising = still_at(plate.centre_m);
+  rising.linear_velocity_m_s = {0.0, 0.0, 1.0};
+  const BodyReaction r = model.interact(0, plate, rising);
+  EXPECT_EQ(r.force_N.z(), 0.0);
+  EXPECT_EQ(r.normal_stiffness_N_per_m, 0.0);
+  EXPECT_EQ(r.normal_damping_N_s_per_m, 0.0);
+  EXPECT_EQ(r.shear_bound_N, 0.0);
+  // Back at rest on the reload line it carries load again, and its shear
+  // acts at the contact, not at the body's reference point.
+  SoilMechanics sticky;
+  sticky.tool_adhesion_kPa = 5.0;
+  GranularGrid g2 = testing::flat_site(20.0, 2.0, kDepth);
+  SoilContactModel model2(g2, sticky);
+  plate.centre_m = {1.0137, 1.0071, kDepth + 0.05 - 0.02};
+  BodyMotion above = still_at(plate.centre_m + Eigen::Vector3d(0.0, 0.0, 1.0));
+  const BodyReaction loaded = model2.interact(0, plate, above);
+  EXPECT_GT(loaded.shear_bound_N, 5000.0);  // 5 kPa over 1 m^2, plus friction
+  EXPECT_NEAR(loaded.shear_point_m.z(), kDepth - 0.02, 1e-6);
+}
+
+// The wedge is made of the soil in front of the interface.
+TEST(ContactCases, TheWedgeIsMadeOfTheSoilInFront) {
+  SoilMechanics sand, clay;
+  sand.friction_angle_deg = 35.0;
+  clay.friction_angle_deg = 15.0;
+  const auto wedge = [&](bool clay_in_front, bool clay_under) {
+    GranularGrid g = testing::flat_site(20.0, 3.0, kDepth);
+    SoilContactModel model(g, sand);
+    const int clay_index = model.add_soil(clay);
+    OrientedBox blade;
+    blade.half_extents_m = {0.15, 0.5, 0.3};
+    blade.centre_m = {1.0137, 1.5013, kDepth - 0.2 + 0.3};
+    for (int j = 0; j < g.ny(); ++j)
+      for (int i = 0; i < g.nx(); ++i) {
+        const bool ahead = (i + 0.5) / 20.0 > 1.0137 + 0.15;
+        if ((ahead && clay_in_front) || (!ahead && clay_under)) model.set_soil_region(i, j, clay_index);
+      }
+    model.embed(0, blade, still_at(blade.centre_m));
+    return model.interact(0, blade, still_at(blade.centre_m)).wedge[0].bound_N;
+  };
+  const double all_clay = wedge(true, true), all_sand = wedge(false, false);
+  EXPECT_LT(all_clay, 0.7 * all_sand);
+  EXPECT_DOUBLE_EQ(wedge(true, false), all_clay);
+  EXPECT_DOUBLE_EQ(wedge(false, true), all_sand);
+}
+
 TEST(ContactCases, ASegmentWhollyInsideAMeshHitsAtItsLowEnd) {
   TriangleMesh mesh = TriangleMesh::box({1.0, 1.0, 1.0});
   VerticalHit hit;

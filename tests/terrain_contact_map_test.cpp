@@ -84,6 +84,21 @@ TEST(ContactMap, RotatedBoxAndSphereFootprintsConvergeWithCellSize) {
   }
 }
 
+// Bekker's b is the footprint's smaller side however the body is turned.
+TEST(ContactMap, BekkerWidthDoesNotDependOnTheBodysYaw) {
+  const GranularGrid g = testing::flat_site(20.0, 3.0, 0.4);
+  for (double yaw_deg : {0.0, 30.0, 45.0, 90.0}) {
+    OrientedBox plate;
+    plate.half_extents_m = {1.0, 0.1, 0.1};
+    plate.orientation = Eigen::AngleAxisd(yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ());
+    plate.centre_m = {1.5137, 1.4871, 0.4 - 0.03 + 0.1};
+    ContactMapper mapper;
+    ContactMap map;
+    mapper.build(g, plate, BodyMotion{}, &map);
+    EXPECT_NEAR(map.footprint_b_m, 0.2, 0.01) << "yaw " << yaw_deg << " deg";
+  }
+}
+
 TEST(ContactMap, TriangleMeshGivesTheSameMapAsTheAnalyticBox) {
   const GranularGrid g = testing::flat_site(20.0, 2.0, 0.4);
   OrientedBox box;
