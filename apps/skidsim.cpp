@@ -36,6 +36,13 @@ int run_bench(bool json, const std::string& filter, double min_time_s, const std
   return 0;
 }
 
+// Options every job has: its run directory and its soil.
+void add_job_options(CLI::App* cmd, std::string& out_dir, std::string& soil_id, std::string& soil_table) {
+  cmd->add_option("--out", out_dir, "Run directory to write")->capture_default_str();
+  cmd->add_option("--soil", soil_id, "Soil id from the soil table")->capture_default_str();
+  cmd->add_option("--soil-table", soil_table, "Soil table XML (default: assets/soils.xml)");
+}
+
 int list_soils(const std::string& path) {
   const auto table = skidsim::io::load_soil_table(path);
   std::cout << "soils in " << path << ":\n";
@@ -59,9 +66,7 @@ int main(int argc, char** argv) {
   CLI::App* pour_cmd = app.add_subcommand(
       "pour", "Pour sand from a hopper onto a site, let it settle, and write a run directory\n"
               "(summary.json, final terrain as 16-bit PNG height maps with JSON metadata)");
-  pour_cmd->add_option("--out", pour.out_dir, "Run directory to write")->capture_default_str();
-  pour_cmd->add_option("--soil", pour.soil_id, "Soil id from the soil table")->capture_default_str();
-  pour_cmd->add_option("--soil-table", pour.soil_table_path, "Soil table XML (default: assets/soils.xml)");
+  add_job_options(pour_cmd, pour.out_dir, pour.soil_id, pour.soil_table_path);
   pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(CLI::PositiveNumber);
   pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(CLI::PositiveNumber);
   pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(CLI::Range(0.0, 1000.0));
@@ -82,9 +87,7 @@ int main(int argc, char** argv) {
   CLI::App* push_cmd = app.add_subcommand(
       "push", "Push a vertical blade through a flat layer of soil and record its resistance along the push\n"
               "(the thesis's fig. 7.12): summary.json, resistance.csv, the final terrain height map");
-  push_cmd->add_option("--out", push.out_dir, "Run directory to write")->capture_default_str();
-  push_cmd->add_option("--soil", push.soil_id, "Soil id from the soil table")->capture_default_str();
-  push_cmd->add_option("--soil-table", push.soil_table_path, "Soil table XML (default: assets/soils.xml)");
+  add_job_options(push_cmd, push.out_dir, push.soil_id, push.soil_table_path);
   push_cmd->add_option("--cells-per-m", push.cells_per_m, "Grid density, cells per metre")->capture_default_str();
   push_cmd->add_option("--layer-m", push.layer_m, "Depth of the flat layer of soil, m")->capture_default_str();
   push_cmd->add_option("--depth-m", push.depth_m, "Blade edge below the surface (H), m")->capture_default_str();

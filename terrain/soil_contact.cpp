@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <stdexcept>
 
 namespace skidsim::terrain {
@@ -391,27 +392,33 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
   }
 }
 
-void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
+SoilContactModel::BodyState& SoilContactModel::body_state(int body_id) {
   if (body_id < 0 || body_id > kMaxBodyId)
-    throw std::invalid_argument("SoilContactModel::embed: body_id must be in [0, 65535]");
+    throw std::invalid_argument("SoilContactModel: body_id " + std::to_string(body_id) + " is not in [0, 65535]");
   if (body_id >= static_cast<int>(bodies_.size())) bodies_.resize(body_id + 1);
-  BodyState& state = bodies_[body_id];
+  return bodies_[body_id];
+}
+
+double SoilContactModel::untouched_level_m(int cell, double covered_fraction) const {
+  // If the cell's plastic sinkage (an old imprint) lies under the part now
+  // covered, that part's soil stands lower than the cell's mean.
+  const double surface = grid_.surface_at(cell);
+  if (plastic_.empty()) return surface;
+  return surface + plastic_[cell] - plastic_sinkage_under(cell, covered_fraction);
+}
+
+void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
+  BodyState& state = body_state(body_id);
   mapper_.build(grid_, body, motion, &state.next);
   update_covered(state);
-  for (CellContact& c : state.next.cells) {
-    const int cell = static_cast<int>(c.cell);
-    const double realised = plastic_.empty() ? 0.0 : plastic_[cell] - plastic_sinkage_under(cell, c.covered_fraction);
-    c.covered_level_m = std::min(grid_.surface_at(cell) + realised, c.bottom_z_m);
-  }
+  for (CellContact& c : state.next.cells)
+    c.covered_level_m = std::min(untouched_level_m(static_cast<int>(c.cell), c.covered_fraction), c.bottom_z_m);
   std::swap(state.map, state.next);
   state.in_contact = !state.map.cells.empty();
 }
 
 BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
-  if (body_id < 0 || body_id > kMaxBodyId)
-    throw std::invalid_argument("SoilContactModel::interact: body_id must be in [0, 65535]");
-  if (body_id >= static_cast<int>(bodies_.size())) bodies_.resize(body_id + 1);
-  BodyState& state = bodies_[body_id];
+  BodyState& state = body_state(body_id);
   mapper_.build(grid_, body, motion, &state.next);
   BodyReaction out;
   const ContactMap& now = state.next;
@@ -435,9 +442,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
         k < before.cells.size() && before.cells[k].cell == c.cell ? &before.cells[k] : nullptr;
     const int cell = static_cast<int>(c.cell);
     const double surface = grid_.surface_at(cell);
-    // A cell the body did not touch before: the level of its soil under the
-    // covered part, if the cell's compaction (an old imprint) lies there.
-    const double untouched_level = surface + plastic_[cell] - plastic_sinkage_under(cell, c.covered_fraction);
+    const double untouched_level = untouched_level_m(cell, c.covered_fraction);
     double covered_before = 0.0, level_before = untouched_level;
     if (previous) {
       covered_before = previous->covered_fraction;

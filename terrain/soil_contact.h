@@ -129,6 +129,9 @@ class SoilContactModel {
     double depth_m = 0.0;  // soil standing against it: H = d_0 at the interface
   };
 
+  BodyState& body_state(int body_id);  // throws for an id out of [0, 65535]
+  // Level of the soil under the part of a cell a body newly covers.
+  double untouched_level_m(int cell, double covered_fraction) const;
   void update_covered(BodyState& state);
   void cover(std::uint32_t cell, bool on);
   // Plastic sinkage already realised under the covered part of a cell.
