@@ -328,11 +328,11 @@ __attribute__((always_inline)) inline std::array<std::int32_t, 4> GranularGrid::
 
 void GranularGrid::sweep() {
   const bool dense = mode_ == SweepMode::kDense ||
-                     (mode_ == SweepMode::kAuto && active_cell_count() * 8 > quanta_.size());
+                     (mode_ == SweepMode::kAuto && active_cell_count() * kDenseFraction > quanta_.size());
   ++sweep_count_;
   if (dense) {
     sweep_dense();
-    pending_all_ = mode_ != SweepMode::kSparse && changed_count_ * 8 > quanta_.size();
+    pending_all_ = mode_ != SweepMode::kSparse && changed_count_ * kDenseFraction > quanta_.size();
     if (pending_all_) return;  // the next sweep visits every cell anyway
     // Back to lists: after a dense sweep the cells that changed are exactly
     // those flagged as flowing.
