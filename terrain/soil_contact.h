@@ -75,6 +75,11 @@ struct BodyReaction {
   int contact_cells = 0;
 };
 
+// One per terrain grid; any number of bodies. Per-cell state (the peak and
+// plastic sinkage and the area they were pressed over, 12 bytes; the count
+// of bodies covering the cell, 1; the soil region, 1) is allocated at the
+// first contact or the first region set: a scene no body touches pays
+// nothing. Everything else is sized by the contact areas.
 class SoilContactModel {
  public:
   // `soil` is soil 0, which every cell has until set_soil_region says
@@ -89,9 +94,9 @@ class SoilContactModel {
 
   // One body, one step (step 3 of ARCHITECTURE.md's 2 ms step): builds the
   // body's contact map, updates the terrain under it and returns the soil's
-  // reaction. `body_id` >= 0 names the body across steps (its previous map
-  // tells how far its interfaces advanced). Allocates only while a body's
-  // contact grows beyond its largest size so far.
+  // reaction. `body_id` in [0, 65535] names the body across steps (its
+  // previous map tells how far its interfaces advanced). Allocates only
+  // while a body's contact grows beyond its largest size so far.
   BodyReaction interact(int body_id, const BodyGeometry& body, const BodyMotion& motion);
   // Places a body in the soil as if it had got there by itself: the soil
   // under its covered parts is taken to be at its underside, so nothing is
@@ -99,7 +104,8 @@ class SoilContactModel {
   // machine loaded with a saved terrain). The soil its volume overlaps is
   // the caller's to remove.
   void embed(int body_id, const BodyGeometry& body, const BodyMotion& motion);
-  // Forgets a body: its cells are no longer covered.
+  // Forgets a body: it no longer covers its cells (they stay covered while
+  // another body covers them).
   void release(int body_id);
 
   const ContactMap& contact_map(int body_id) const { return bodies_.at(body_id).map; }
