@@ -71,6 +71,61 @@ bool Sphere::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m,
   return true;
 }
 
+Eigen::AlignedBox3d Cylinder::world_bounds() const {
+  const Eigen::Matrix3d r = orientation.toRotationMatrix();
+  // Reach along world axis k: the disc's radius times the sine of the angle
+  // between the axle and the axis, plus the half width along the axle.
+  Eigen::Vector3d reach;
+  for (int k = 0; k < 3; ++k) {
+    const double along_axle = std::abs(r(k, 1));
+    reach[k] = radius_m * std::sqrt(std::max(0.0, 1.0 - along_axle * along_axle)) + half_width_m * along_axle;
+  }
+  return {centre_m - reach, centre_m + reach};
+}
+
+bool Cylinder::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const {
+  // The vertical line in the cylinder's frame: p(t) = a + t u, the axle
+  // along y. Inside: p_x^2 + p_z^2 <= R^2 and |p_y| <= h.
+  const Eigen::Matrix3d r = orientation.toRotationMatrix();
+  const Eigen::Vector3d a = r.transpose() * (Eigen::Vector3d(x_m, y_m, 0.0) - centre_m);
+  const Eigen::Vector3d u = r.transpose().col(2);
+  double t_in = -std::numeric_limits<double>::infinity(), t_out = std::numeric_limits<double>::infinity();
+  bool through_cap = false;
+  // The disc: quadratic in t.
+  const double qa = u.x() * u.x() + u.z() * u.z();
+  const double qb = 2.0 * (a.x() * u.x() + a.z() * u.z());
+  const double qc = a.x() * a.x() + a.z() * a.z() - radius_m * radius_m;
+  if (qa < 1e-12) {
+    if (qc > 0.0) return false;  // a line along the axle, outside the disc
+  } else {
+    const double disc = qb * qb - 4.0 * qa * qc;
+    if (disc < 0.0) return false;
+    const double root = std::sqrt(disc);
+    t_in = (-qb - root) / (2.0 * qa);
+    t_out = (-qb + root) / (2.0 * qa);
+  }
+  // The two end caps: a slab along the axle.
+  if (std::abs(u.y()) < 1e-12) {
+    if (std::abs(a.y()) > half_width_m) return false;
+  } else {
+    double s0 = (-half_width_m - a.y()) / u.y(), s1 = (half_width_m - a.y()) / u.y();
+    if (s0 > s1) std::swap(s0, s1);
+    if (s0 > t_in) {
+      t_in = s0;
+      through_cap = true;
+    }
+    t_out = std::min(t_out, s1);
+  }
+  const double lo = std::max(t_in, z_low_m), hi = std::min(t_out, z_high_m);
+  if (lo > hi) return false;
+  hit->z_m = lo;
+  const Eigen::Vector3d p = a + t_in * u;
+  const Eigen::Vector3d n_local =
+      through_cap ? Eigen::Vector3d(0.0, u.y() > 0.0 ? -1.0 : 1.0, 0.0) : Eigen::Vector3d(p.x(), 0.0, p.z()) / radius_m;
+  hit->normal = r * n_local;
+  return true;
+}
+
 void TriangleMesh::update() {
   world_.resize(vertices_body_m.size());
   bounds_.setEmpty();

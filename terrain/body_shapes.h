@@ -37,6 +37,18 @@ struct Sphere final : BodyGeometry {
   bool lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const override;
 };
 
+// A solid cylinder (a wheel): radius `radius_m`, its axis along the body's y
+// (the axle), `half_width_m` either side of the centre.
+struct Cylinder final : BodyGeometry {
+  Eigen::Vector3d centre_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  double radius_m = 0.3;
+  double half_width_m = 0.15;
+
+  Eigen::AlignedBox3d world_bounds() const override;
+  bool lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const override;
+};
+
 // A closed triangle mesh with outward (counter-clockwise) winding, placed by
 // a rigid transform. Brute force over the triangles whose footprint holds
 // the query point: meant for tool meshes of tens to hundreds of triangles.

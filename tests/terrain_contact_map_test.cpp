@@ -99,6 +99,26 @@ TEST(ContactMap, BekkerWidthDoesNotDependOnTheBodysYaw) {
   }
 }
 
+// A wheel pressed 4 cm into the soil, axle turned 30 degrees: the footprint
+// is its width times the chord 2 sqrt(2 R d - d^2); the deepest cell is 4 cm.
+TEST(ContactMap, WheelFootprintIsWidthTimesChord) {
+  const GranularGrid g = testing::flat_site(40.0, 2.0, 0.4);
+  Cylinder wheel;
+  wheel.radius_m = 0.3;
+  wheel.half_width_m = 0.15;
+  wheel.orientation = Eigen::AngleAxisd(kPi / 6.0, Eigen::Vector3d::UnitZ());
+  wheel.centre_m = {1.0137, 0.9871, 0.4 - 0.04 + 0.3};
+  ContactMapper mapper;
+  ContactMap map;
+  mapper.build(g, wheel, BodyMotion{}, &map);
+  const double chord = 2.0 * std::sqrt(2.0 * 0.3 * 0.04 - 0.04 * 0.04);
+  EXPECT_NEAR(covered_area(map, 1.0 / 40.0), 0.3 * chord, 0.05 * 0.3 * chord);
+  double deepest = 0.0;
+  for (const CellContact& c : map.cells) deepest = std::max(deepest, c.depth_m);
+  EXPECT_NEAR(deepest, 0.04, 0.002);
+  EXPECT_NEAR(map.footprint_b_m, std::min(0.3, chord), 0.03);
+}
+
 TEST(ContactMap, TriangleMeshGivesTheSameMapAsTheAnalyticBox) {
   const GranularGrid g = testing::flat_site(20.0, 2.0, 0.4);
   OrientedBox box;

@@ -227,3 +227,72 @@ TEST(SoilRegions, EachPartOfTheFootprintFollowsItsOwnSoil) {
 
 }  // namespace
 }  // namespace skidsim::terrain
+
+namespace skidsim::terrain {
+namespace {
+
+// Bekker's rigid-wheel depth z0 = [3 W / ((3 - n)(k_c + b k_phi) sqrt(D))]
+// ^(2/(2n+1)) (LOADER.md) carries the load on the front of the contact only,
+// as for a towed wheel. A wheel standing still is carried by both halves of
+// its contact and sinks 2^(-2/(2n+1)) of z0 (0.65 for n = 1.1): that is
+// asserted within 15 %. A towed wheel must sink deeper than a standing one
+// and not beyond z0 + 15 %; measured, it stays 10-24 % short of z0 (the
+// loader issue's wheel-on-soil work takes this up).
+struct WheelRun {
+  double sinkage_m = 0.0;
+};
+
+WheelRun run_wheel(double cells_per_m, double mass, double speed_m_s) {
+  const SoilMechanics sand;
+  const double radius = 0.3, width = 0.3;
+  GranularGrid g = testing::flat_site(cells_per_m, speed_m_s > 0.0 ? 4.0 : 1.6, kSoilDepth, kDt);
+  SoilContactModel model(g, sand);
+  Cylinder wheel;
+  wheel.radius_m = radius;
+  wheel.half_width_m = 0.5 * width;
+  testing::TranslatingBody body;
+  body.mass_kg = mass;
+  body.position_m = {0.6137, 0.7871, kSoilDepth + radius};
+  const int steps = speed_m_s > 0.0 ? static_cast<int>(2.8 / speed_m_s / kDt) : 3000;
+  for (int step = 0; step < steps; ++step) {
+    const double t = step * kDt;
+    wheel.centre_m = body.position_m;
+    BodyMotion motion = body.motion();
+    motion.linear_velocity_m_s.x() = speed_m_s;
+    motion.angular_velocity_rad_s = {0.0, speed_m_s / radius, 0.0};  // rolling: the lowest point is still
+    const BodyReaction r = model.interact(0, wheel, motion);
+    body.step(r, {0.0, 0.0, -mass * kGravity_m_s2 * std::min(1.0, t / 1.0)}, kDt);
+    body.velocity_m_s.x() = speed_m_s;  // towed
+    body.velocity_m_s.y() = 0.0;
+    body.position_m.x() = 0.6137 + speed_m_s * (t + kDt);
+    body.position_m.y() = 0.7871;
+    g.step();
+  }
+  return {kSoilDepth - (body.position_m.z() - radius)};
+}
+
+TEST(WheelSinkage, StandingWheelFollowsBekkersRigidWheelFormulaOverBothHalves) {
+  const SoilMechanics sand;
+  const double radius = 0.3, width = 0.3;
+  for (double cells_per_m : {20.0, 40.0}) {
+    for (double mass : {300.0, 600.0}) {
+      const double load = mass * kGravity_m_s2;
+      const double k = 1000.0 * (sand.k_c_kN_per_m_n1 + width * sand.k_phi_kN_per_m_n2);
+      const double bekker =
+          std::pow(3.0 * load / ((3.0 - sand.n) * k * std::sqrt(2.0 * radius)), 2.0 / (2.0 * sand.n + 1.0));
+      const double towed = run_wheel(cells_per_m, mass, 0.25).sinkage_m;
+      const double standing = run_wheel(cells_per_m, mass, 0.0).sinkage_m;
+      const double both_halves = bekker * std::pow(2.0, -2.0 / (2.0 * sand.n + 1.0));
+      std::printf("wheel D=0.6 m b=0.3 m, %3.0f kg, %2.0f cells/m: towed %.4f m vs Bekker %.4f m (%+.1f %%); "
+                  "standing %.4f m vs %.4f m (%+.1f %%)\n",
+                  mass, cells_per_m, towed, bekker, 100.0 * (towed / bekker - 1.0), standing, both_halves,
+                  100.0 * (standing / both_halves - 1.0));
+      EXPECT_NEAR(standing, both_halves, 0.15 * both_halves) << mass << " kg, " << cells_per_m << " cells/m";
+      EXPECT_GT(towed, 1.1 * standing) << mass << " kg, " << cells_per_m << " cells/m";
+      EXPECT_LT(towed, 1.15 * bekker) << mass << " kg, " << cells_per_m << " cells/m";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace skidsim::terrain
