@@ -5,6 +5,25 @@
 #include <limits>
 
 namespace skidsim::terrain {
+namespace {
+
+// Clips the line's parameter interval [t_in, t_out] to the slab |a + t u| <= h
+// (one coordinate of a line p(t) = a + t u). Returns false when the line
+// misses the slab; sets `entered` when the slab's lower bound became t_in.
+bool clip_to_slab(double a, double u, double h, double& t_in, double& t_out, bool& entered) {
+  entered = false;
+  if (std::abs(u) < 1e-12) return std::abs(a) <= h;
+  double t0 = (-h - a) / u, t1 = (h - a) / u;
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 > t_in) {
+    t_in = t0;
+    entered = true;
+  }
+  t_out = std::min(t_out, t1);
+  return true;
+}
+
+}  // namespace
 
 const Eigen::Matrix3d& OrientedBox::rotation() const {
   if (orientation.coeffs() != rotation_of_) {
@@ -32,17 +51,9 @@ bool OrientedBox::lowest_hit(double x_m, double y_m, double z_low_m, double z_hi
   double t_in = -std::numeric_limits<double>::infinity(), t_out = std::numeric_limits<double>::infinity();
   int entry_axis = 2;
   for (int k = 0; k < 3; ++k) {
-    if (std::abs(u[k]) < 1e-12) {
-      if (std::abs(a[k]) > half_extents_m[k]) return false;
-      continue;
-    }
-    double t0 = (-half_extents_m[k] - a[k]) / u[k], t1 = (half_extents_m[k] - a[k]) / u[k];
-    if (t0 > t1) std::swap(t0, t1);
-    if (t0 > t_in) {
-      t_in = t0;
-      entry_axis = k;
-    }
-    t_out = std::min(t_out, t1);
+    bool entered = false;
+    if (!clip_to_slab(a[k], u[k], half_extents_m[k], t_in, t_out, entered)) return false;
+    if (entered) entry_axis = k;
   }
   const double lo = std::max(t_in, z_low_m), hi = std::min(t_out, z_high_m);
   if (lo > hi) return false;
@@ -105,17 +116,7 @@ bool Cylinder::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_
     t_out = (-qb + root) / (2.0 * qa);
   }
   // The two end caps: a slab along the axle.
-  if (std::abs(u.y()) < 1e-12) {
-    if (std::abs(a.y()) > half_width_m) return false;
-  } else {
-    double s0 = (-half_width_m - a.y()) / u.y(), s1 = (half_width_m - a.y()) / u.y();
-    if (s0 > s1) std::swap(s0, s1);
-    if (s0 > t_in) {
-      t_in = s0;
-      through_cap = true;
-    }
-    t_out = std::min(t_out, s1);
-  }
+  if (!clip_to_slab(a.y(), u.y(), half_width_m, t_in, t_out, through_cap)) return false;
   const double lo = std::max(t_in, z_low_m), hi = std::min(t_out, z_high_m);
   if (lo > hi) return false;
   hit->z_m = lo;
