@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "io/atomic_file.h"
+#include "io/xml_reader.h"
 
 namespace skidsim::io {
 namespace {
@@ -15,59 +16,14 @@ namespace {
 using tinyxml2::XMLElement;
 
 [[noreturn]] void fail(const std::string& path, const XMLElement* e, const std::string& what) {
-  std::ostringstream msg;
-  msg << path << ":" << (e ? e->GetLineNum() : 0) << ": ";
-  if (e) msg << "<" << e->Name() << "> ";
-  msg << what;
-  throw InputError(msg.str());
+  fail_at(path, e, what);
 }
-
-// Reads a required numeric attribute and checks that every attribute of the
-// element is one the caller knows (a typo must not pass silently).
-class AttributeReader {
- public:
-  AttributeReader(const std::string& path, const XMLElement* e) : path_(path), e_(e) {}
-  double number(const char* name) {
-    known_.insert(name);
-    const char* text = e_->Attribute(name);
-    if (!text) fail(path_, e_, std::string("missing attribute '") + name + "'");
-    // The whole value must be a number: "33deg" is an error, not 33.
-    char* end = nullptr;
-    const double v = std::strtod(text, &end);
-    while (end && (*end == ' ' || *end == '\t')) ++end;
-    if (end == text || !end || *end != '\0' || !std::isfinite(v))
-      fail(path_, e_, std::string("attribute '") + name + "' = \"" + text + "\": expected a number");
-    return v;
-  }
-  double number_or(const char* name, double fallback) {
-    return e_->Attribute(name) ? number(name) : (known_.insert(name), fallback);
-  }
-  std::string text(const char* name, bool required) {
-    known_.insert(name);
-    const char* t = e_->Attribute(name);
-    if (!t && required) fail(path_, e_, std::string("missing attribute '") + name + "'");
-    return t ? t : "";
-  }
-  void reject_unknown() const {
-    for (const tinyxml2::XMLAttribute* a = e_->FirstAttribute(); a; a = a->Next())
-      if (!known_.count(a->Name())) fail(path_, e_, std::string("unknown attribute '") + a->Name() + "'");
-  }
-
- private:
-  std::string path_;
-  const XMLElement* e_;
-  std::set<std::string> known_;
-};
 
 }  // namespace
 
 SoilTable load_soil_table(const std::string& path) {
   tinyxml2::XMLDocument doc;
-  if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
-    std::ostringstream msg;
-    msg << path << ":" << doc.ErrorLineNum() << ": " << doc.ErrorStr();
-    throw InputError(msg.str());
-  }
+  load_xml(doc, path);
   const XMLElement* root = doc.RootElement();
   if (!root || std::string(root->Name()) != "soils") fail(path, root, "expected the root element <soils>");
 

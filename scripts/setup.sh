@@ -13,6 +13,9 @@ PACKAGES=(
   libcli11-dev           # the skidsim command line
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev       # skidsim bench
+  libbullet-dev          # the loader's multibody (double build: bullet-float64)
+  liburdfdom-dev         # the loader's URDF
+  libassimp-dev          # visual meshes
 )
 
 missing=()

@@ -1,0 +1,85 @@
+// The world of one session and its fixed 2 ms step (ARCHITECTURE.md, "One
+// 2 ms step"): controls -> hydraulics and drive -> tyre and terrain forces ->
+// Bullet step -> read back. Firm ground and static obstacles are Bullet
+// rigid bodies; the loader is a Featherstone multibody.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <vector>
+
+#include "vehicle/loader.h"
+
+class btBroadphaseInterface;
+class btCollisionDispatcher;
+class btDefaultCollisionConfiguration;
+class btMultiBodyConstraintSolver;
+class btMultiBodyDynamicsWorld;
+class btCollisionObject;
+class btCollisionShape;
+
+namespace skidsim::engine {
+
+constexpr double kStepSeconds = 0.002;  // 500 steps per second (thesis)
+
+struct StaticBox {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // centre, world
+  Eigen::Vector3d half_extents_m = Eigen::Vector3d::Constant(0.5);
+};
+
+// Firm ground: a plane n . x = offset (omit with has_plane = false) and boxes.
+struct FirmGround {
+  bool has_plane = true;
+  Eigen::Vector3d plane_normal = Eigen::Vector3d::UnitZ();
+  double plane_offset_m = 0.0;
+  std::vector<StaticBox> boxes;
+  double friction = 0.8;  // Bullet contact friction (body, bucket on ground)
+};
+
+class World {
+ public:
+  World(const vehicle::LoaderDescription& loader, const FirmGround& ground, const Eigen::Isometry3d& chassis_pose,
+        double lift_rad = 0.0, double tilt_rad = 0.0);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // One 2 ms step with these controls.
+  void step(const vehicle::LoaderControls& controls);
+  double time_s() const { return static_cast<double>(steps_) * kStepSeconds; }
+  long steps() const { return steps_; }
+  vehicle::Loader& loader() { return *loader_; }
+  const vehicle::Loader& loader() const { return *loader_; }
+  // Stability events, first time seen (-1: not yet): the rear wheels lose
+  // all load (the machine is tipping forward), the chassis leans past 45 deg.
+  struct Events {
+    double rear_wheels_unloaded_s = -1.0;
+    double tipped_over_s = -1.0;
+    bool finite = true;  // every state value stayed finite
+  };
+  const Events& events() const { return events_; }
+  // A constant external force on a link, re-applied every step (payload).
+  void set_link_load(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& point_in_link_m);
+
+ private:
+  void watch_stability();
+
+  std::unique_ptr<btDefaultCollisionConfiguration> config_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btBroadphaseInterface> broadphase_;
+  std::unique_ptr<btMultiBodyConstraintSolver> solver_;
+  std::unique_ptr<btMultiBodyDynamicsWorld> world_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btCollisionObject>> statics_;
+  std::unique_ptr<vehicle::Loader> loader_;
+  struct LinkLoad {
+    int link;
+    Eigen::Vector3d force_N, point_in_link_m;
+  };
+  std::vector<LinkLoad> loads_;
+  long steps_ = 0;
+  Events events_;
+};
+
+}  // namespace skidsim::engine

@@ -1,0 +1,424 @@
+#include "io/loader_files.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <console_bridge/console.h>
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "io/soil_table.h"
+#include "io/xml_reader.h"
+#include "vehicle/cylinder_geometry.h"
+
+namespace skidsim::io {
+namespace {
+
+namespace fs = std::filesystem;
+using vehicle::LoaderDescription;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// urdfdom reports through console_bridge; keep its last error for our message
+// instead of letting it print.
+class CapturedLog : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) last_error = text;
+  }
+  std::string last_error;
+};
+
+// Where each <link>/<joint> of the URDF starts, for messages (urdfdom keeps no lines).
+struct UrdfLines {
+  std::map<std::string, int> link, joint;
+};
+
+UrdfLines index_lines(const std::string& path) {
+  tinyxml2::XMLDocument doc;
+  load_xml(doc, path);
+  UrdfLines lines;
+  const tinyxml2::XMLElement* robot = doc.RootElement();
+  if (!robot || std::string(robot->Name()) != "robot") fail_at(path, robot, "expected the root element <robot>");
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const char* name = e->Attribute("name");
+    if (!name) continue;
+    if (std::string(e->Name()) == "link") lines.link[name] = e->GetLineNum();
+    if (std::string(e->Name()) == "joint") lines.joint[name] = e->GetLineNum();
+  }
+  return lines;
+}
+
+[[noreturn]] void fail_line(const std::string& path, int line, const std::string& what) {
+  std::ostringstream msg;
+  msg << path << ":" << line << ": " << what;
+  throw InputError(msg.str());
+}
+
+vehicle::Pose to_pose(const urdf::Pose& p) {
+  vehicle::Pose out;
+  out.position_m = {p.position.x, p.position.y, p.position.z};
+  out.rotation = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized();
+  return out;
+}
+
+void load_mesh(vehicle::VisualMesh& mesh, const Eigen::Vector3d& scale, const std::string& urdf_path, int line,
+               const std::string& link) {
+  if (!fs::is_regular_file(mesh.path))
+    fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': no such file");
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(mesh.path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                                          aiProcess_PreTransformVertices);
+  if (!scene || !scene->mRootNode || scene->mNumMeshes == 0)
+    fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': cannot read it (" +
+                                   importer.GetErrorString() + ")");
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* am = scene->mMeshes[m];
+    const unsigned base = static_cast<unsigned>(mesh.vertices_m.size());
+    for (unsigned v = 0; v < am->mNumVertices; ++v) {
+      const aiVector3D& p = am->mVertices[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': non-finite vertex");
+      mesh.vertices_m.emplace_back(static_cast<float>(p.x * scale.x()), static_cast<float>(p.y * scale.y()),
+                                   static_cast<float>(p.z * scale.z()));
+    }
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& face = am->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines left by triangulation
+      mesh.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    }
+  }
+  if (mesh.triangles.empty())
+    fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': no triangles");
+}
+
+// One link: inertia, collision boxes, visual meshes. Wheels may be massless.
+vehicle::RigidLink read_link(const urdf::Link& link, const std::string& urdf_path, int line, bool massless_ok) {
+  vehicle::RigidLink out;
+  out.name = link.name;
+  out.urdf_line = line;
+  const std::string where = "link '" + link.name + "'";
+  if (link.inertial) {
+    const urdf::Inertial& in = *link.inertial;
+    if (!(in.mass > 0.0) || !std::isfinite(in.mass)) {
+      std::ostringstream m;
+      m << where << " <inertial><mass value=" << in.mass << ">: the mass must be positive";
+      fail_line(urdf_path, line, m.str());
+    }
+    const double off = std::abs(in.ixy) + std::abs(in.ixz) + std::abs(in.iyz);
+    const Eigen::Vector3d I(in.ixx, in.iyy, in.izz);
+    if (off > 1e-9 * I.cwiseAbs().maxCoeff())
+      fail_line(urdf_path, line, where + " <inertia>: give principal moments (ixy = ixz = iyz = 0) and turn the "
+                                         "<inertial><origin rpy> to the principal axes");
+    if (!(I.minCoeff() > 0.0) || I.x() > I.y() + I.z() || I.y() > I.x() + I.z() || I.z() > I.x() + I.y()) {
+      std::ostringstream m;
+      m << where << " <inertia> (" << I.transpose() << "): the moments must be positive and satisfy the triangle "
+        << "inequality";
+      fail_line(urdf_path, line, m.str());
+    }
+    out.mass_kg = in.mass;
+    out.com = to_pose(in.origin);
+    out.principal_inertia_kg_m2 = I;
+  } else if (!massless_ok) {
+    fail_line(urdf_path, line, where + ": missing <inertial> (only wheels may be massless)");
+  }
+  for (const auto& c : link.collision_array) {
+    if (!c->geometry || c->geometry->type != urdf::Geometry::BOX) continue;
+    const auto& box = static_cast<const urdf::Box&>(*c->geometry);
+    vehicle::CollisionBox b;
+    b.pose = to_pose(c->origin);
+    b.half_extents_m = 0.5 * Eigen::Vector3d(box.dim.x, box.dim.y, box.dim.z);
+    if (!(b.half_extents_m.minCoeff() > 0.0)) fail_line(urdf_path, line, where + " <collision><box>: sizes must be positive");
+    out.collision.push_back(b);
+  }
+  const fs::path dir = fs::path(urdf_path).parent_path();
+  for (const auto& v : link.visual_array) {
+    if (!v->geometry || v->geometry->type != urdf::Geometry::MESH) continue;
+    const auto& mesh = static_cast<const urdf::Mesh&>(*v->geometry);
+    if (mesh.filename.rfind("package://", 0) == 0)
+      fail_line(urdf_path, line, where + " visual mesh '" + mesh.filename + "': package:// paths are not supported; "
+                                          "give a path relative to the URDF");
+    vehicle::VisualMesh vm;
+    vm.path = fs::absolute(dir / mesh.filename).lexically_normal().string();
+    vm.pose = to_pose(v->origin);
+    load_mesh(vm, {mesh.scale.x, mesh.scale.y, mesh.scale.z}, urdf_path, line, link.name);
+    out.visuals.push_back(std::move(vm));
+  }
+  return out;
+}
+
+void read_urdf(LoaderDescription& d) {
+  const std::string& path = d.urdf_path;
+  const UrdfLines lines = index_lines(path);
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  CapturedLog log;
+  console_bridge::useOutputHandler(&log);
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text.str());
+  console_bridge::restorePreviousOutputHandler();
+  if (!model) throw InputError(path + ": not a valid URDF: " + (log.last_error.empty() ? "parse failed" : log.last_error));
+
+  const urdf::LinkConstSharedPtr root = model->getRoot();
+  auto link_line = [&](const std::string& n) { return lines.link.count(n) ? lines.link.at(n) : 0; };
+  auto joint_line = [&](const std::string& n) { return lines.joint.count(n) ? lines.joint.at(n) : 0; };
+  d.links.push_back(read_link(*root, path, link_line(root->name), false));
+
+  // Walk the tree: continuous joints on the chassis are wheels; revolute
+  // joints form the implement chain (lift arm, bucket).
+  std::vector<urdf::LinkConstSharedPtr> stack{root};
+  std::map<std::string, int> index{{root->name, 0}};
+  while (!stack.empty()) {
+    const urdf::LinkConstSharedPtr parent = stack.back();
+    stack.pop_back();
+    for (const auto& child : parent->child_links) {
+      const urdf::JointConstSharedPtr j = child->parent_joint;
+      const int jl = joint_line(j->name);
+      if (j->type == urdf::Joint::CONTINUOUS) {
+        if (parent != root) fail_line(path, jl, "joint '" + j->name + "': a wheel (continuous joint) must hang on the chassis");
+        if (!child->child_links.empty()) fail_line(path, jl, "joint '" + j->name + "': a wheel link must have no children");
+        const urdf::Cylinder* cyl = nullptr;
+        for (const auto& c : child->collision_array)
+          if (c->geometry && c->geometry->type == urdf::Geometry::CYLINDER)
+            cyl = static_cast<const urdf::Cylinder*>(c->geometry.get());
+        if (!cyl) fail_line(path, link_line(child->name), "link '" + child->name + "': a wheel needs a <collision><cylinder>");
+        if (!(cyl->radius > 0.0 && cyl->length > 0.0))
+          fail_line(path, link_line(child->name), "link '" + child->name + "' <cylinder>: radius and length must be positive");
+        vehicle::Wheel w;
+        w.name = child->name;
+        w.hub_m = to_pose(j->parent_to_joint_origin_transform).position_m;
+        d.wheels.push_back(w);
+        if (d.tyre.radius_m == 0.0) {
+          d.tyre.radius_m = cyl->radius;
+          d.tyre.width_m = cyl->length;
+        } else if (std::abs(d.tyre.radius_m - cyl->radius) > 1e-6 || std::abs(d.tyre.width_m - cyl->length) > 1e-6) {
+          fail_line(path, link_line(child->name), "link '" + child->name + "': every wheel must have the same cylinder");
+        }
+        // Thesis: massless discs; any mass given is ignored only if zero.
+        if (child->inertial && child->inertial->mass != 0.0)
+          fail_line(path, link_line(child->name), "link '" + child->name + "': wheels are massless discs (lump their "
+                                                  "mass into the chassis) - remove the <inertial>");
+        continue;
+      }
+      if (j->type != urdf::Joint::REVOLUTE)
+        fail_line(path, jl, "joint '" + j->name + "': only revolute (implement) and continuous (wheel) joints are supported");
+      if (!j->limits || !(j->limits->upper > j->limits->lower))
+        fail_line(path, jl, "joint '" + j->name + "' <limit>: upper must exceed lower");
+      vehicle::ImplementJoint ij;
+      ij.name = j->name;
+      ij.origin = to_pose(j->parent_to_joint_origin_transform);
+      ij.axis = Eigen::Vector3d(j->axis.x, j->axis.y, j->axis.z);
+      if (!(ij.axis.norm() > 0.5)) fail_line(path, jl, "joint '" + j->name + "' <axis>: must be a unit vector");
+      ij.axis.normalize();
+      ij.lower_rad = j->limits->lower;
+      ij.upper_rad = j->limits->upper;
+      ij.urdf_line = jl;
+      d.joints.push_back(ij);
+      d.joint_parent_link.push_back(index.at(parent->name));
+      index[child->name] = static_cast<int>(d.links.size());
+      d.links.push_back(read_link(*child, path, link_line(child->name), false));
+      stack.push_back(child);
+    }
+  }
+  // The wheels' visual meshes, for the renderer.
+  for (auto& w : d.wheels)
+    w.visuals = read_link(*model->getLink(w.name), path, link_line(w.name), true).visuals;
+  if (d.joints.size() != 2)
+    fail_line(path, link_line(root->name), "expected two revolute joints (lift arm and bucket), found " +
+                                               std::to_string(d.joints.size()));
+}
+
+int joint_index(const LoaderDescription& d, const std::string& name) {
+  for (size_t i = 0; i < d.joints.size(); ++i)
+    if (d.joints[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+void read_cylinder(LoaderDescription& d, const std::string& path, const tinyxml2::XMLElement* e) {
+  AttributeReader a(path, e);
+  vehicle::Cylinder c;
+  c.name = a.text("name", true);
+  const std::string joint = a.text("joint", true);
+  c.joint = joint_index(d, joint);
+  if (c.joint < 0) a.fail("attribute 'joint' = \"" + joint + "\": no revolute joint of that name in the URDF");
+  c.bore_m = a.number_in("bore_mm", 1.0, 1000.0) * 1e-3;
+  c.rod_m = a.number_in("rod_mm", 1.0, 1000.0) * 1e-3;
+  if (!(c.rod_m < c.bore_m)) a.fail("the rod must be thinner than the bore");
+  c.min_length_m = a.number_in("min_length_m", 0.01, 20.0);
+  c.max_length_m = a.number_in("max_length_m", 0.01, 20.0);
+  if (!(c.max_length_m > c.min_length_m)) a.fail("max_length_m must exceed min_length_m");
+  c.relief_pressure_Pa = a.number_in("relief_MPa", 0.1, 100.0) * 1e6;
+  c.parent_pin_m = a.vector3("parent_pin");
+  c.child_pin_m = a.vector3("child_pin");
+  c.line = e->GetLineNum();
+  a.reject_unknown();
+  // The stroke must carry the joint through its whole range, one way (the
+  // length must grow or shrink monotonically: no dead centre inside).
+  const vehicle::ImplementJoint& j = d.joints[c.joint];
+  constexpr int kSamples = 400;
+  double previous = 0.0;
+  int sign = 0;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double q = j.lower_rad + (j.upper_rad - j.lower_rad) * k / kSamples;
+    const vehicle::CylinderKinematics ck = vehicle::cylinder_kinematics(c, j, q);
+    if (ck.length_m < c.min_length_m - 1e-6 || ck.length_m > c.max_length_m + 1e-6) {
+      std::ostringstream m;
+      m << "cylinder '" << c.name << "' cannot reach joint '" << j.name << "' at " << q * 180.0 / kPi
+        << " deg: it would need " << ck.length_m << " m pin to pin, its stroke spans [" << c.min_length_m << ", "
+        << c.max_length_m << "] m";
+      a.fail(m.str());
+    }
+    if (k > 0) {
+      const int s = ck.length_m > previous ? 1 : -1;
+      if (sign != 0 && s != sign) a.fail("cylinder '" + c.name + "' passes a dead centre inside the joint's range");
+      sign = s;
+    }
+    previous = ck.length_m;
+  }
+  d.cylinders.push_back(c);
+}
+
+}  // namespace
+
+LoaderDescription load_loader(const std::string& parameters_path) {
+  LoaderDescription d;
+  d.parameters_path = parameters_path;
+  tinyxml2::XMLDocument doc;
+  load_xml(doc, parameters_path);
+  const tinyxml2::XMLElement* root = doc.RootElement();
+  if (!root || std::string(root->Name()) != "loader_parameters")
+    fail_at(parameters_path, root, "expected the root element <loader_parameters>");
+  {
+    AttributeReader a(parameters_path, root);
+    const std::string urdf = a.text("urdf", true);
+    a.reject_unknown();
+    d.urdf_path = (fs::path(parameters_path).parent_path() / urdf).lexically_normal().string();
+    if (!fs::is_regular_file(d.urdf_path)) a.fail("attribute 'urdf' = \"" + urdf + "\": no such file " + d.urdf_path);
+  }
+  read_urdf(d);
+
+  bool have_engine = false, have_pump = false, have_drive = false, have_tyre = false, have_bucket = false;
+  std::vector<std::string> wheel_links;
+  for (const tinyxml2::XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string name = e->Name();
+    AttributeReader a(parameters_path, e);
+    if (name == "engine") {
+      have_engine = true;
+      auto& en = d.engine;
+      en.idle_rpm = a.number_in("idle_rpm", 100.0, 10000.0);
+      en.rated_rpm = a.number_in("rated_rpm", 100.0, 10000.0);
+      en.inertia_kg_m2 = a.number_in("inertia_kg_m2", 1e-3, 1e3);
+      en.governor_droop = a.number_in("governor_droop", 0.005, 0.5);
+      a.reject_unknown();
+      if (!(en.rated_rpm > en.idle_rpm)) a.fail("rated_rpm must exceed idle_rpm");
+      for (const tinyxml2::XMLElement* p = e->FirstChildElement(); p; p = p->NextSiblingElement()) {
+        AttributeReader pa(parameters_path, p);
+        if (std::string(p->Name()) != "power") pa.fail("unknown element (expected <power>)");
+        const double rpm = pa.number_in("rpm", 1.0, 10000.0);
+        const double kw = pa.number_in("kW", 0.0, 10000.0);
+        pa.reject_unknown();
+        if (!en.speed_rpm.empty() && !(rpm > en.speed_rpm.back())) pa.fail("rpm must increase down the table");
+        en.speed_rpm.push_back(rpm);
+        en.full_load_power_W.push_back(kw * 1e3);
+      }
+      if (en.speed_rpm.size() < 2) a.fail("needs at least two <power rpm kW> points");
+      if (en.speed_rpm.front() > en.idle_rpm || en.speed_rpm.back() < en.rated_rpm)
+        a.fail("the power table must span idle_rpm to rated_rpm");
+    } else if (name == "implement_pump") {
+      have_pump = true;
+      d.implement_pump.flow_at_rated_m3_per_s = a.number_in("flow_l_per_min", 1.0, 2000.0) / 60000.0;
+      d.implement_pump.efficiency = a.number_in("efficiency", 0.1, 1.0);
+      a.reject_unknown();
+    } else if (name == "cylinder") {
+      read_cylinder(d, parameters_path, e);
+    } else if (name == "drive") {
+      have_drive = true;
+      auto& dr = d.drive;
+      dr.top_speed_m_per_s = a.number_in("top_speed_km_h", 0.1, 100.0) / 3.6;
+      dr.relief_pressure_Pa = a.number_in("relief_MPa", 0.1, 100.0) * 1e6;
+      dr.motor_displacement_m3_per_rad = a.number_in("motor_displacement_cc_per_rev", 1.0, 1e5) * 1e-6 / (2.0 * kPi);
+      dr.final_drive_ratio = a.number_in("final_drive_ratio", 0.1, 100.0);
+      dr.efficiency = a.number_in("efficiency", 0.1, 1.0);
+      dr.side_inertia_kg_m2 = a.number_in("side_inertia_kg_m2", 0.01, 1e4);
+      dr.servo_gain_N_m_s = a.number_in("servo_gain_N_m_s", 1.0, 1e7);
+      dr.brake_torque_N_m = a.number_in("brake_torque_N_m", 0.0, 1e6);
+      a.reject_unknown();
+    } else if (name == "tyre") {
+      have_tyre = true;
+      auto& t = d.tyre;
+      t.radial_stiffness_N_per_m = a.number_in("radial_stiffness_kN_per_m", 1.0, 1e5) * 1e3;
+      t.radial_damping_N_s_per_m = a.number_in("radial_damping_kN_s_per_m", 0.0, 1e4) * 1e3;
+      t.relaxation_x_m = a.number_in("relaxation_x_m", 0.005, 5.0);
+      t.relaxation_y_m = a.number_in("relaxation_y_m", 0.005, 5.0);
+      t.low_speed_damping_N_s_per_m = a.number_in("low_speed_damping_kN_s_per_m", 0.0, 1e4) * 1e3;
+      t.low_speed_m_per_s = a.number_in("low_speed_m_per_s", 0.01, 10.0);
+      t.Bx = a.number_in("Bx", 0.1, 100.0);
+      t.Cx = a.number_in("Cx", 0.1, 3.0);
+      t.Ex = a.number_in("Ex", -10.0, 1.0);
+      t.mu_x = a.number_in("mu_x", 0.01, 3.0);
+      t.By = a.number_in("By", 0.1, 100.0);
+      t.Cy = a.number_in("Cy", 0.1, 3.0);
+      t.Ey = a.number_in("Ey", -10.0, 1.0);
+      t.mu_y = a.number_in("mu_y", 0.01, 3.0);
+      t.rBx1 = a.number_in("rBx1", 0.0, 100.0);
+      t.rBx2 = a.number_in("rBx2", 0.0, 100.0);
+      t.Cxa = a.number_in("Cxa", 0.1, 3.0);
+      t.rBy1 = a.number_in("rBy1", 0.0, 100.0);
+      t.rBy2 = a.number_in("rBy2", 0.0, 100.0);
+      t.Cyk = a.number_in("Cyk", 0.1, 3.0);
+      t.rolling_resistance = a.number_in("rolling_resistance", 0.0, 0.5);
+      a.reject_unknown();
+    } else if (name == "wheel") {
+      const std::string link = a.text("link", true);
+      const std::string side = a.text("side", true);
+      a.reject_unknown();
+      vehicle::Wheel* w = nullptr;
+      for (auto& cand : d.wheels)
+        if (cand.name == link) w = &cand;
+      if (!w) a.fail("attribute 'link' = \"" + link + "\": not a wheel (continuous joint on the chassis) in the URDF");
+      if (side != "left" && side != "right") a.fail("attribute 'side' = \"" + side + "\": expected left or right");
+      w->side = side == "left" ? 0 : 1;
+      wheel_links.push_back(link);
+    } else if (name == "bucket") {
+      have_bucket = true;
+      const std::string link = a.text("link", true);
+      if (d.link_index(link) != static_cast<int>(d.links.size()) - 1)
+        a.fail("attribute 'link' = \"" + link + "\": the bucket must be the last link of the implement chain");
+      d.bucket_load_centre_m = a.vector3("load_centre");
+      d.bucket_volume_m3 = a.number_in("volume_m3", 0.01, 20.0);
+      a.reject_unknown();
+    } else {
+      a.fail("unknown element");
+    }
+  }
+  auto need = [&](bool have, const char* what) {
+    if (!have) fail_at(parameters_path, root, std::string("missing <") + what + ">");
+  };
+  need(have_engine, "engine");
+  need(have_pump, "implement_pump");
+  need(have_drive, "drive");
+  need(have_tyre, "tyre");
+  need(have_bucket, "bucket");
+  for (size_t j = 0; j < d.joints.size(); ++j) {
+    int n = 0;
+    for (const auto& c : d.cylinders) n += c.joint == static_cast<int>(j);
+    if (n != 1) fail_at(parameters_path, root, "joint '" + d.joints[j].name + "' needs exactly one <cylinder>");
+  }
+  if (wheel_links.size() != d.wheels.size())
+    fail_at(parameters_path, root, "every URDF wheel needs a <wheel link side> entry");
+  int left = 0;
+  for (const auto& w : d.wheels) left += w.side == 0;
+  if (left == 0 || left == static_cast<int>(d.wheels.size()))
+    fail_at(parameters_path, root, "a skid steer needs wheels on both sides");
+  return d;
+}
+
+std::string default_loader_path() { return default_assets_dir() + "/loader/skidsteer.params.xml"; }
+
+}  // namespace skidsim::io

@@ -1,0 +1,90 @@
+#include "io/xml_reader.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace skidsim::io {
+
+void fail_at(const std::string& path, const tinyxml2::XMLElement* e, const std::string& what) {
+  std::ostringstream msg;
+  msg << path << ":" << (e ? e->GetLineNum() : 0) << ": ";
+  if (e) msg << "<" << e->Name() << "> ";
+  msg << what;
+  throw InputError(msg.str());
+}
+
+void load_xml(tinyxml2::XMLDocument& doc, const std::string& path) {
+  if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
+    std::ostringstream msg;
+    msg << path << ":" << doc.ErrorLineNum() << ": " << doc.ErrorStr();
+    throw InputError(msg.str());
+  }
+}
+
+namespace {
+// Parses one number from `text`, advancing it; false if none is there.
+bool parse_number(const char*& text, double& value) {
+  char* end = nullptr;
+  value = std::strtod(text, &end);
+  if (end == text || !std::isfinite(value)) return false;
+  text = end;
+  return true;
+}
+bool at_end(const char* p) {
+  while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') ++p;
+  return *p == '\0';
+}
+}  // namespace
+
+double AttributeReader::number(const char* name) {
+  known_.insert(name);
+  const char* text = e_->Attribute(name);
+  if (!text) fail(std::string("missing attribute '") + name + "'");
+  const char* p = text;
+  double v = 0.0;
+  if (!parse_number(p, v) || !at_end(p))
+    fail(std::string("attribute '") + name + "' = \"" + text + "\": expected a number");
+  return v;
+}
+
+double AttributeReader::number_or(const char* name, double fallback) {
+  known_.insert(name);
+  return e_->Attribute(name) ? number(name) : fallback;
+}
+
+double AttributeReader::number_in(const char* name, double lo, double hi) {
+  const double v = number(name);
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream msg;
+    msg << "attribute '" << name << "' = " << v << ": out of range [" << lo << ", " << hi << "]";
+    fail(msg.str());
+  }
+  return v;
+}
+
+Eigen::Vector3d AttributeReader::vector3(const char* name) {
+  known_.insert(name);
+  const char* text = e_->Attribute(name);
+  if (!text) fail(std::string("missing attribute '") + name + "'");
+  Eigen::Vector3d v;
+  const char* p = text;
+  for (int k = 0; k < 3; ++k)
+    if (!parse_number(p, v[k])) fail(std::string("attribute '") + name + "' = \"" + text + "\": expected three numbers");
+  if (!at_end(p)) fail(std::string("attribute '") + name + "' = \"" + text + "\": expected three numbers");
+  return v;
+}
+
+std::string AttributeReader::text(const char* name, bool required) {
+  known_.insert(name);
+  const char* t = e_->Attribute(name);
+  if (!t && required) fail(std::string("missing attribute '") + name + "'");
+  return t ? t : "";
+}
+
+void AttributeReader::reject_unknown() const {
+  for (const tinyxml2::XMLAttribute* a = e_->FirstAttribute(); a; a = a->Next())
+    if (!known_.count(a->Name())) fail(std::string("unknown attribute '") + a->Name() + "'");
+}
+
+}  // namespace skidsim::io

@@ -1,0 +1,104 @@
+// The loader on firm ground: top speed, turning in place, standing on a
+// slope with the brake on, and bit-for-bit determinism.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "tests/loader_support.h"
+
+namespace skidsim::testing {
+namespace {
+
+TEST(LoaderDrive, TopSpeedOnFlatGroundIsTheRatedElevenKmH) {
+  auto w = loader_on_ground();
+  vehicle::LoaderControls c;
+  c.drive_left = c.drive_right = 1.0;
+  run_for(*w, c, 6.0);
+  const double speed_km_h = 3.6 * w->loader().chassis_velocity().norm();
+  const double rated_km_h = 3.6 * shipped_loader().drive.top_speed_m_per_s;
+  RecordProperty("top_speed_km_h", std::to_string(speed_km_h));
+  EXPECT_NEAR(speed_km_h, rated_km_h, 0.03 * rated_km_h);
+  // Straight: equal levers keep the heading.
+  EXPECT_LT(std::abs(w->loader().chassis_angular_velocity().z()), 1e-3);
+  // Reverse too.
+  c.drive_left = c.drive_right = -1.0;
+  run_for(*w, c, 8.0);
+  EXPECT_NEAR(3.6 * w->loader().chassis_velocity().norm(), rated_km_h, 0.03 * rated_km_h);
+}
+
+TEST(LoaderDrive, OppositeLeversTurnItInPlace) {
+  for (double lever : {1.0, 0.3}) {
+    auto w = loader_on_ground();
+    const vehicle::Loader& l = w->loader();
+    const Eigen::Vector3d start = l.centre_of_mass();
+    vehicle::LoaderControls c;
+    c.drive_left = lever;
+    c.drive_right = -lever;
+    run_for(*w, c, 1.0);
+    double farthest = 0.0, heading_turned = 0.0;
+    Eigen::Vector2d centre_sum = Eigen::Vector2d::Zero();
+    const int n = 5000;
+    for (int i = 0; i < n; ++i) {
+      w->step(c);
+      farthest = std::max(farthest, (l.centre_of_mass() - start).head<2>().norm());
+      const double yaw_rate = l.chassis_angular_velocity().z();
+      heading_turned += yaw_rate * engine::kStepSeconds;
+      // Instantaneous centre of rotation, in the chassis frame.
+      const Eigen::Isometry3d chassis = l.link_pose(0);
+      const Eigen::Vector3d v_origin =
+          l.chassis_velocity() + l.chassis_angular_velocity().cross(chassis.translation() - l.link_pose(0) *
+                                                                        shipped_loader().links[0].com.position_m);
+      const Eigen::Vector3d offset_world(-v_origin.y() / yaw_rate, v_origin.x() / yaw_rate, 0.0);
+      centre_sum += (chassis.linear().transpose() * offset_world).head<2>();
+    }
+    const Eigen::Vector2d centre = centre_sum / n;
+    RecordProperty("turn_centre_x_m_lever_" + std::to_string(lever), std::to_string(centre.x()));
+    // Left forward, right back: clockwise seen from above (yaw rate < 0).
+    EXPECT_LT(heading_turned, -lever * 5.0) << "lever " << lever;
+    // In place: it turns about a point between its axles (nearer the heavier
+    // rear axle) and near its centre line (the spin's centripetal load moves
+    // it sideways a little), and its centre of mass stays on its footprint.
+    EXPECT_LT(std::abs(centre.x()), 0.515) << "lever " << lever;
+    EXPECT_LT(std::abs(centre.y()), 0.2) << "lever " << lever;
+    EXPECT_LT(farthest, 0.8) << "lever " << lever;
+    EXPECT_TRUE(w->events().finite);
+  }
+}
+
+TEST(LoaderDrive, StandsOnATwentyDegreeSlopeWithTheBrakeOnWithoutCreep) {
+  const double slope = 20.0 * kPi / 180.0;
+  for (double yaw_deg : {0.0, 180.0, 90.0}) {
+    auto w = loader_on_ground(slope, yaw_deg * kPi / 180.0);
+    vehicle::LoaderControls c;
+    c.parking_brake = true;
+    run_for(*w, c, 1.0);  // settle the tyres' deflection
+    const Eigen::Vector3d before = w->loader().link_pose(0).translation();
+    run_for(*w, c, 10.0);
+    const double drift_mm = 1e3 * (w->loader().link_pose(0).translation() - before).norm();
+    RecordProperty("drift_mm_yaw_" + std::to_string(static_cast<int>(yaw_deg)), std::to_string(drift_mm));
+    EXPECT_LT(drift_mm, 1.0) << "facing " << yaw_deg << " deg from uphill";
+    EXPECT_LT(w->loader().chassis_velocity().norm(), 1e-3);
+  }
+}
+
+TEST(LoaderDrive, SameControlsGiveTheSameStateBitForBit) {
+  auto run = [] {
+    auto w = loader_on_ground();
+    vehicle::LoaderControls c;
+    for (int i = 0; i < 3000; ++i) {
+      c.drive_left = std::sin(i * 0.003);
+      c.drive_right = std::cos(i * 0.002);
+      c.lift = i < 1500 ? 0.8 : -0.5;
+      c.tilt = i % 700 < 350 ? 0.4 : -0.4;
+      w->step(c);
+    }
+    const Eigen::Isometry3d p = w->loader().link_pose(2);
+    return std::array<double, 5>{p.translation().x(), p.translation().y(), p.translation().z(),
+                                 w->loader().joint_angle(0), w->loader().side_wheel_speed(1)};
+  };
+  const auto a = run(), b = run();
+  EXPECT_EQ(0, std::memcmp(a.data(), b.data(), sizeof(a)));
+}
+
+}  // namespace
+}  // namespace skidsim::testing

@@ -1,0 +1,125 @@
+// The loader in Bullet: a Featherstone multibody (floating chassis, revolute
+// lift arm and bucket) built from a LoaderDescription, with the hydraulics,
+// the hydrostatic drive and the tyres that move it. Each 2 ms step the engine
+// calls pre_step (controls -> cylinder motor targets and force bounds, drive,
+// tyre forces applied to the chassis), steps the Bullet world, then
+// post_step (reads back what the cylinders applied).
+//
+// The wheels are massless discs lumped into the chassis (thesis ch. 9); their
+// spin is the drive's state, one speed per side (both wheels chained).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "vehicle/loader_description.h"
+#include "vehicle/powertrain.h"
+#include "vehicle/tyre.h"
+
+class btMultiBody;
+class btMultiBodyDynamicsWorld;
+class btMultiBodyJointMotor;
+class btMultiBodyJointLimitConstraint;
+class btMultiBodyLinkCollider;
+class btCollisionShape;
+
+namespace skidsim::vehicle {
+
+// Collision filter groups shared with the engine: the machine's colliders
+// touch the ground (firm terrain, obstacles, trucks) and nothing else.
+constexpr int kMachineCollisionGroup = 1 << 6;
+constexpr int kGroundCollisionGroup = 1 << 7;
+constexpr int kTyreRayGroup = 1 << 8;
+
+// What the ground under one wheel does, for soft soil (the engine fills it
+// from the terrain's contact model). Firm ground is found by ray tests.
+struct SoftWheelContact {
+  bool active = false;           // the wheel's footprint meets a soil region
+  double soft_fraction = 0.0;    // share of the load carried by soil, 0..1
+  double normal_load_N = 0.0;    // Bekker reaction of the soil under the wheel
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();
+  // Janosi-Hanamoto shear: tau = (c + sigma tan phi) (1 - exp(-j / K)).
+  double cohesion_Pa = 0.0, friction_angle_rad = 0.0, shear_modulus_K_m = 0.01;
+  double contact_area_m2 = 0.0, contact_length_m = 0.0;
+  double extra_force_N[3] = {0, 0, 0};  // other soil reactions (bulldozing), world frame
+};
+
+struct WheelState {
+  bool on_ground = false;
+  double normal_load_N = 0.0;
+  double slip_ratio = 0.0, slip_angle_rad = 0.0;
+  double longitudinal_force_N = 0.0, lateral_force_N = 0.0;
+  Eigen::Vector3d contact_point_m = Eigen::Vector3d::Zero();
+  TyreDeflection deflection;
+};
+
+struct CylinderState {
+  double length_m = 0.0;
+  double speed_m_per_s = 0.0;     // + extending
+  double force_N = 0.0;           // + pushing (extending)
+  double pressure_Pa = 0.0;       // in the loaded chamber
+  bool at_relief = false;
+};
+
+class Loader {
+ public:
+  // Builds the multibody with its chassis link frame at `chassis_pose`
+  // (world) and the implement at the given joint angles, and adds it to `world`.
+  Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& world, const Eigen::Isometry3d& chassis_pose,
+         double lift_rad = 0.0, double tilt_rad = 0.0);
+  ~Loader();
+  Loader(const Loader&) = delete;
+  Loader& operator=(const Loader&) = delete;
+
+  // Controls -> hydraulics, drive and tyre forces. `soft` (one per wheel, or
+  // null) carries the soil's reaction where the wheel stands on soil.
+  void pre_step(const LoaderControls& controls, double dt_s, const SoftWheelContact* soft = nullptr);
+  void post_step(double dt_s);
+
+  // An external force on a link (world frame, at a world point), for the
+  // payload and for terrain reactions on the bucket. Cleared by each step.
+  void add_force(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& point_m);
+
+  const LoaderDescription& description() const { return d_; }
+  Eigen::Isometry3d link_pose(int link) const;          // link frame in world
+  Eigen::Vector3d chassis_velocity() const;             // of the chassis COM, world
+  Eigen::Vector3d chassis_angular_velocity() const;     // world
+  Eigen::Vector3d centre_of_mass() const;               // whole machine, world
+  double joint_angle(int joint) const;
+  double joint_speed(int joint) const;
+  Eigen::Vector3d wheel_hub(int wheel) const;
+  double side_wheel_speed(int side) const { return side_speed_[side]; }
+  double engine_speed_rpm() const;
+  const std::vector<WheelState>& wheels() const { return wheels_; }
+  const std::vector<CylinderState>& cylinders() const { return cylinder_state_; }
+  btMultiBody& multibody() { return *body_; }
+
+ private:
+  void apply_hydraulics(const LoaderControls& c, double dt_s);
+  void apply_tyres_and_drive(const LoaderControls& c, double dt_s, const SoftWheelContact* soft);
+  bool firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration) const;
+
+  LoaderDescription d_;
+  btMultiBodyDynamicsWorld& world_;
+  btMultiBody* body_ = nullptr;
+  std::vector<btMultiBodyLinkCollider*> colliders_;
+  std::vector<btCollisionShape*> shapes_;
+  std::vector<btMultiBodyJointMotor*> motors_;
+  std::vector<btMultiBodyJointLimitConstraint*> limits_;
+  std::vector<WheelState> wheels_;
+  std::vector<CylinderState> cylinder_state_;
+  std::vector<double> cylinder_flow_;     // m^3/s asked this step, + extends
+  std::vector<double> hold_angle_;        // latched when a spool closes
+  std::vector<bool> holding_;
+  std::array<double, 2> side_speed_{};    // rad/s
+  double engine_speed_rad_s_ = 0.0;
+  double drive_radius_m_ = 0.0;
+  double implement_power_W_ = 0.0;
+  double drive_power_W_ = 0.0;
+};
+
+}  // namespace skidsim::vehicle

@@ -1,0 +1,77 @@
+#include "vehicle/tyre.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace skidsim::vehicle {
+namespace {
+
+// Pacejka (4.49): y = D sin(C atan(B x - E (B x - atan(B x)))).
+double pure_slip(double B, double C, double D, double E, double x) {
+  const double Bx = B * x;
+  return D * std::sin(C * std::atan(Bx - E * (Bx - std::atan(Bx))));
+}
+
+// One step of dx/dt = drive - rate x, exact for constant drive and rate.
+double relax(double x, double drive, double rate, double dt) {
+  if (rate * dt < 1e-9) return x + drive * dt;
+  const double decay = std::exp(-rate * dt);
+  return x * decay + drive * (1.0 - decay) / rate;
+}
+
+}  // namespace
+
+TyreForce magic_formula(const TyreParameters& p, double slip_ratio, double slip_angle_rad, double normal_load_N) {
+  const double Fz = std::max(0.0, normal_load_N);
+  const double fx0 = pure_slip(p.Bx, p.Cx, p.mu_x * Fz, p.Ex, slip_ratio);
+  const double fy0 = pure_slip(p.By, p.Cy, p.mu_y * Fz, p.Ey, slip_angle_rad);
+  // Combined slip (Pacejka 4.E50-4.E57 without shifts): each force is
+  // weighted down by the other slip.
+  const double Bxa = p.rBx1 * std::cos(std::atan(p.rBx2 * slip_ratio));
+  const double Byk = p.rBy1 * std::cos(std::atan(p.rBy2 * slip_angle_rad));
+  const double Gxa = std::cos(p.Cxa * std::atan(Bxa * slip_angle_rad));
+  const double Gyk = std::cos(p.Cyk * std::atan(Byk * slip_ratio));
+  return {fx0 * Gxa, fy0 * Gyk};
+}
+
+double deflection_slip_ratio(const TyreParameters& p, const TyreDeflection& u) {
+  return std::clamp(u.x_m / p.relaxation_x_m, -1.0, 1.0);
+}
+
+double deflection_slip_angle(const TyreParameters& p, const TyreDeflection& u) {
+  return std::atan(u.y_m / p.relaxation_y_m);
+}
+
+TyreForce firm_tyre_force(const TyreParameters& p, const TyreDeflection& u, const TyreKinematics& k) {
+  const double Fz = k.normal_load_N;
+  if (!(Fz > 0.0)) return {};
+  TyreForce f = magic_formula(p, deflection_slip_ratio(p, u), deflection_slip_angle(p, u), Fz);
+  // Below low_speed the patch's spring has little damping of its own: add
+  // some, fading out smoothly (Pacejka 7.2, "low speed" damping).
+  const double v = std::abs(k.contact_speed_x);
+  if (v < p.low_speed_m_per_s) {
+    const double w = 0.5 * (1.0 + std::cos(3.14159265358979323846 * v / p.low_speed_m_per_s));
+    f.longitudinal_N -= w * p.low_speed_damping_N_s_per_m * (k.contact_speed_x - k.rolling_speed);
+    f.lateral_N -= w * p.low_speed_damping_N_s_per_m * k.contact_speed_y;
+  }
+  // Never more than the ground's friction can give.
+  const double limit = std::max(p.mu_x, p.mu_y) * Fz;
+  const double magnitude = std::hypot(f.longitudinal_N, f.lateral_N);
+  if (magnitude > limit) {
+    const double s = limit / magnitude;
+    f.longitudinal_N *= s;
+    f.lateral_N *= s;
+  }
+  return f;
+}
+
+void advance_deflection(const TyreParameters& p, const TyreKinematics& k, double dt_s, TyreDeflection& u) {
+  const double slip_x = k.contact_speed_x - k.rolling_speed;
+  const double travel = std::max(std::abs(k.contact_speed_x), std::abs(k.rolling_speed));
+  u.x_m = relax(u.x_m, -slip_x, travel / p.relaxation_x_m, dt_s);
+  u.y_m = relax(u.y_m, -k.contact_speed_y, (travel + std::abs(k.contact_speed_y)) / p.relaxation_y_m, dt_s);
+  // A tyre off the ground springs back.
+  if (!(k.normal_load_N > 0.0)) u = {};
+}
+
+}  // namespace skidsim::vehicle
