@@ -5,6 +5,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace skidsim::engine {
@@ -62,12 +63,99 @@ void World::set_link_load(int link, const Eigen::Vector3d& force_N, const Eigen:
   loads_.push_back({link, force_N, point_in_link_m});
 }
 
+void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil) {
+  grid_ = std::move(grid);
+  soil_ = std::make_unique<terrain::SoilContactModel>(*grid_, soil);
+  const vehicle::LoaderDescription& d = loader_->description();
+  soft_.assign(d.wheels.size(), {});
+  wheel_shapes_.assign(d.wheels.size(), {});
+  link_boxes_.clear();
+  for (size_t l = 0; l < d.links.size(); ++l)
+    for (const vehicle::CollisionBox& b : d.links[l].collision) link_boxes_.push_back({static_cast<int>(l), b, {}});
+  body_in_soil_.assign(d.wheels.size() + link_boxes_.size(), false);
+}
+
+terrain::BodyReaction World::soil_on_body(int body_id, const terrain::BodyGeometry& shape,
+                                          const terrain::BodyMotion& motion) {
+  const terrain::GridSpec& spec = grid_->spec();
+  const double half = 0.5 * spec.cell_size_m;
+  const Eigen::AlignedBox3d box = shape.world_bounds();
+  const bool over = box.max().x() > spec.origin_m.x() - half &&
+                    box.min().x() < spec.origin_m.x() + spec.cell_size_m * (spec.nx - 1) + half &&
+                    box.max().y() > spec.origin_m.y() - half &&
+                    box.min().y() < spec.origin_m.y() + spec.cell_size_m * (spec.ny - 1) + half;
+  if (!over) {
+    if (body_in_soil_[body_id]) soil_->release(body_id);
+    body_in_soil_[body_id] = false;
+    return {};
+  }
+  body_in_soil_[body_id] = true;
+  return soil_->interact(body_id, shape, motion);
+}
+
+// Step 3 of the 2 ms step: the machine's parts meet the soil through their
+// contact maps. Wheels pass the soil's reaction to the tyre model (which
+// adds Janosi-Hanamoto traction); boxes take it directly.
+void World::soil_on_machine() {
+  const vehicle::LoaderDescription& d = loader_->description();
+  const Eigen::Isometry3d chassis = loader_->link_pose(0);
+  const Eigen::Quaterniond rotation(chassis.linear());
+  const terrain::GridSpec& spec = grid_->spec();
+  Eigen::Vector3d v_com, omega;
+  loader_->link_velocity(0, v_com, omega);
+  const Eigen::Vector3d com = loader_->link_centre_of_mass(0);
+  for (size_t w = 0; w < d.wheels.size(); ++w) {
+    terrain::Cylinder& shape = wheel_shapes_[w];
+    shape.centre_m = chassis * d.wheels[w].hub_m;
+    shape.orientation = rotation;
+    shape.radius_m = d.tyre.radius_m;
+    shape.half_width_m = 0.5 * d.tyre.width_m;
+    terrain::BodyMotion motion;
+    motion.reference_point_m = shape.centre_m;
+    motion.linear_velocity_m_s = v_com + omega.cross(shape.centre_m - com);
+    motion.angular_velocity_rad_s = omega;
+    const terrain::BodyReaction r = soil_on_body(static_cast<int>(w), shape, motion);
+    vehicle::SoftWheelContact& s = soft_[w];
+    s = {};
+    if (r.contact_cells == 0) continue;
+    s.active = true;
+    s.force_N = r.force_N;
+    s.torque_Nm = r.torque_Nm;
+    s.contact_area_m2 = r.contact_area_m2;
+    s.contact_point_m = r.shear_point_m;
+    const int ci = std::clamp(static_cast<int>(std::lround((shape.centre_m.x() - spec.origin_m.x()) / spec.cell_size_m)), 0, spec.nx - 1);
+    const int cj = std::clamp(static_cast<int>(std::lround((shape.centre_m.y() - spec.origin_m.y()) / spec.cell_size_m)), 0, spec.ny - 1);
+    const terrain::SoilMechanics& soil = soil_->soil_at_cell(grid_->index(ci, cj));
+    s.shear.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
+    s.shear.friction_angle_rad = soil.friction_angle_deg * 3.14159265358979323846 / 180.0;
+    s.shear.shear_modulus_K_m = soil.shear_modulus_K_m;
+    s.shear.contact_length_m = r.contact_area_m2 / d.tyre.width_m;
+  }
+  for (size_t k = 0; k < link_boxes_.size(); ++k) {
+    LinkBox& lb = link_boxes_[k];
+    const Eigen::Isometry3d pose = loader_->link_pose(lb.link);
+    lb.shape.centre_m = pose * lb.box.pose.position_m;
+    lb.shape.orientation = Eigen::Quaterniond(pose.linear()) * lb.box.pose.rotation;
+    lb.shape.half_extents_m = lb.box.half_extents_m;
+    Eigen::Vector3d v, w;
+    loader_->link_velocity(lb.link, v, w);
+    terrain::BodyMotion motion;
+    motion.reference_point_m = lb.shape.centre_m;
+    motion.linear_velocity_m_s = v + w.cross(lb.shape.centre_m - loader_->link_centre_of_mass(lb.link));
+    motion.angular_velocity_rad_s = w;
+    const terrain::BodyReaction r = soil_on_body(static_cast<int>(d.wheels.size() + k), lb.shape, motion);
+    if (r.contact_cells > 0) loader_->add_wrench(lb.link, r.force_N, r.torque_Nm, lb.shape.centre_m);
+  }
+}
+
 void World::step(const vehicle::LoaderControls& controls) {
   for (const LinkLoad& l : loads_) loader_->add_force(l.link, l.force_N, loader_->link_pose(l.link) * l.point_in_link_m);
-  loader_->pre_step(controls, kStepSeconds);
+  if (grid_) soil_on_machine();
+  loader_->pre_step(controls, kStepSeconds, grid_ ? soft_.data() : nullptr);
   // maxSubSteps = 0: exactly one internal step of kStepSeconds, no interpolation.
   world_->stepSimulation(kStepSeconds, 0, kStepSeconds);
   loader_->post_step(kStepSeconds);
+  if (grid_) grid_->step();  // avalanche sweep over the active cells
   ++steps_;
   watch_stability();
 }

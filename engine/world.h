@@ -9,6 +9,9 @@
 #include <memory>
 #include <vector>
 
+#include "terrain/body_shapes.h"
+#include "terrain/granular_grid.h"
+#include "terrain/soil_contact.h"
 #include "vehicle/loader.h"
 
 class btBroadphaseInterface;
@@ -51,6 +54,15 @@ class World {
   long steps() const { return steps_; }
   vehicle::Loader& loader() { return *loader_; }
   const vehicle::Loader& loader() const { return *loader_; }
+  // Soft soil: the granular automaton of a site and the soil's mechanics.
+  // Wheels (rigid cylinders of the tyre's size) and the links' collision
+  // boxes (chassis belly, bucket) whose footprint meets the grid get the
+  // soil's reaction; the terrain sweeps once per step. The grid's hard base is the site's floor
+  // (give the firm ground's plane at or below it).
+  void add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil);
+  terrain::GranularGrid* terrain() { return grid_.get(); }
+  terrain::SoilContactModel* soil_contact() { return soil_.get(); }
+
   // Stability events, first time seen (-1: not yet): the rear wheels lose
   // all load (the machine is tipping forward), the chassis leans past 45 deg.
   struct Events {
@@ -64,6 +76,9 @@ class World {
 
  private:
   void watch_stability();
+  void soil_on_machine();
+  // One body against the soil: its reaction, or a release when it left the grid.
+  terrain::BodyReaction soil_on_body(int body_id, const terrain::BodyGeometry& shape, const terrain::BodyMotion& motion);
 
   std::unique_ptr<btDefaultCollisionConfiguration> config_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
@@ -80,6 +95,17 @@ class World {
   std::vector<LinkLoad> loads_;
   long steps_ = 0;
   Events events_;
+  std::unique_ptr<terrain::GranularGrid> grid_;
+  std::unique_ptr<terrain::SoilContactModel> soil_;
+  std::vector<vehicle::SoftWheelContact> soft_;
+  std::vector<terrain::Cylinder> wheel_shapes_;
+  struct LinkBox {
+    int link;
+    vehicle::CollisionBox box;
+    terrain::OrientedBox shape;
+  };
+  std::vector<LinkBox> link_boxes_;
+  std::vector<bool> body_in_soil_;  // wheels, then link boxes
 };
 
 }  // namespace skidsim::engine

@@ -108,6 +108,8 @@ Loader::Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& w
     world_.addMultiBodyConstraint(limit);
     limits_.push_back(limit);
   }
+  omega_scratch_.resize(num_links + 1);
+  velocity_scratch_.resize(num_links + 1);
   wheels_.resize(d_.wheels.size());
   cylinder_state_.resize(d_.cylinders.size());
   cylinder_flow_.assign(d_.cylinders.size(), 0.0);
@@ -169,7 +171,33 @@ Eigen::Vector3d Loader::centre_of_mass() const {
   return sum / mass;
 }
 
+Eigen::Vector3d Loader::centre_of_chassis_mass() const { return eig(body_->getBasePos()); }
+
 Eigen::Vector3d Loader::wheel_hub(int wheel) const { return link_pose(0) * d_.wheels[wheel].hub_m; }
+
+void Loader::add_wrench(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& torque_Nm,
+                        const Eigen::Vector3d& point_m) {
+  add_force(link, force_N, point_m);
+  if (link == 0) body_->addBaseTorque(bt(torque_Nm));
+  else body_->addLinkTorque(link - 1, bt(torque_Nm));
+}
+
+Eigen::Vector3d Loader::link_centre_of_mass(int link) const {
+  return link == 0 ? eig(body_->getBasePos()) : eig(body_->localPosToWorld(link - 1, btVector3(0, 0, 0)));
+}
+
+void Loader::link_velocity(int link, Eigen::Vector3d& velocity, Eigen::Vector3d& angular_velocity) const {
+  if (link == 0) {
+    velocity = eig(body_->getBaseVel());
+    angular_velocity = eig(body_->getBaseOmega());
+    return;
+  }
+  // Bullet gives every link's velocities in its own (centre of mass) frame.
+  body_->compTreeLinkVelocities(&omega_scratch_[0], &velocity_scratch_[0]);
+  const btMatrix3x3 r = body_->localFrameToWorld(link - 1, btMatrix3x3::getIdentity());
+  velocity = eig(r * velocity_scratch_[link]);
+  angular_velocity = eig(r * omega_scratch_[link]);
+}
 
 void Loader::add_force(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& point_m) {
   if (link == 0) {
@@ -269,6 +297,8 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     Eigen::Vector3d hub, point, normal, heading, lateral;
     TyreKinematics k;
     double arm = 0.0;
+    double firm_load = 0.0;
+    TyreForce firm, soil;
   };
   std::array<Pending, 8> pending;
   for (size_t i = 0; i < d_.wheels.size() && i < pending.size(); ++i) {
@@ -279,41 +309,56 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     Eigen::Vector3d point, normal;
     const bool firm = firm_contact(static_cast<int>(i), point, normal, penetration);
     const SoftWheelContact* s = soft && soft[i].active ? &soft[i] : nullptr;
-    ws.on_ground = firm || s;
+    const double soil_load = s ? std::max(0.0, s->force_N.z()) : 0.0;
+    ws.on_ground = firm || soil_load > 0.0;
+    ws.soil_sheared = false;
     if (!ws.on_ground) {
       p.k = {};
-      ws.normal_load_N = ws.longitudinal_force_N = ws.lateral_force_N = 0.0;
+      ws.normal_load_N = ws.soil_load_N = ws.longitudinal_force_N = ws.lateral_force_N = 0.0;
       continue;
     }
     if (!firm) {
-      normal = s->normal;
-      point = s->point_m;
-      penetration = 0.0;
+      normal = Eigen::Vector3d::UnitZ();
+      point = s->contact_point_m;
     }
     const Eigen::Vector3d v = v_com + omega.cross(point - com);
-    double Fz_firm = 0.0;
-    if (firm) Fz_firm = std::max(0.0, tp.radial_stiffness_N_per_m * penetration - tp.radial_damping_N_s_per_m * v.dot(normal));
-    const double soft_share = s ? std::clamp(s->soft_fraction, 0.0, 1.0) : 0.0;
+    if (firm)
+      p.firm_load = std::max(0.0, tp.radial_stiffness_N_per_m * penetration - tp.radial_damping_N_s_per_m * v.dot(normal));
     p.heading = axle.cross(normal).normalized();
     p.lateral = normal.cross(p.heading);
     p.normal = normal;
     p.point = point;
     p.arm = tp.radius_m - penetration / 3.0;  // effective rolling radius
-    const double Fz = (1.0 - soft_share) * Fz_firm + (s ? s->normal_load_N : 0.0);
-    p.k.normal_load_N = Fz;
     p.k.contact_speed_x = v.dot(p.heading);
     p.k.contact_speed_y = v.dot(p.lateral);
     p.k.rolling_speed = side_speed_[d_.wheels[i].side] * p.arm;
-    TyreForce f = firm_tyre_force(tp, ws.deflection, p.k);
-    ws.normal_load_N = Fz;
-    ws.longitudinal_force_N = f.longitudinal_N;
-    ws.lateral_force_N = f.lateral_N;
+    // Firm ground: Magic Formula on the tyre's radial load. Soil: Janosi
+    // on the soil's load. Both from the same patch deflection, so the sum
+    // changes continuously as the load moves from one to the other.
+    TyreKinematics firm_k = p.k;
+    firm_k.normal_load_N = p.firm_load;
+    p.firm = firm_tyre_force(tp, ws.deflection, firm_k);
+    if (s) {
+      TyreKinematics soil_k = p.k;
+      soil_k.normal_load_N = soil_load;
+      const SoilTyreForce sf = soil_tyre_force(tp, ws.deflection, s->shear, soil_k, s->contact_area_m2);
+      p.soil = sf.force;
+      ws.soil_sheared = sf.at_strength;
+    }
+    p.k.normal_load_N = p.firm_load + soil_load;
+    ws.normal_load_N = p.k.normal_load_N;
+    ws.soil_load_N = soil_load;
+    ws.soil_contact_area_m2 = s ? s->contact_area_m2 : 0.0;
+    ws.soil_contact_length_m = s ? s->shear.contact_length_m : 0.0;
+    ws.longitudinal_force_N = p.firm.longitudinal_N + p.soil.longitudinal_N;
+    ws.lateral_force_N = p.firm.lateral_N + p.soil.lateral_N;
     ws.contact_point_m = point;
     ws.slip_ratio = deflection_slip_ratio(tp, ws.deflection);
     ws.slip_angle_rad = deflection_slip_angle(tp, ws.deflection);
-    // Rolling resistance: a torque on the wheel against its spin (smooth at 0).
+    // Rolling resistance on firm ground: a torque on the wheel against its
+    // spin (smooth at 0). On soil it is the soil's own (compaction).
     const double spin = std::tanh(p.k.rolling_speed / 0.05);
-    load_torque[d_.wheels[i].side] += p.arm * f.longitudinal_N + tp.rolling_resistance * Fz * p.arm * spin;
+    load_torque[d_.wheels[i].side] += p.arm * ws.longitudinal_force_N + tp.rolling_resistance * p.firm_load * p.arm * spin;
   }
 
   // Drive: each side's wheel speed under its servo and the tyres' torque.
@@ -337,19 +382,23 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     const int side = d_.wheels[i].side;
     // The motor's reaction on the chassis, shared by the side's wheels.
     body_->addBaseTorque(bt(Eigen::Vector3d(-axle * motor_torque[side] / side_wheels[side])));
+    if (soft && soft[i].active) {
+      body_->addBaseForce(bt(soft[i].force_N));
+      body_->addBaseTorque(bt(Eigen::Vector3d(soft[i].torque_Nm + (p.hub - com).cross(soft[i].force_N))));
+    }
     if (!ws.on_ground) {
       ws.deflection = {};
       continue;
     }
-    // Fz and Fy act at the patch; Fx at the hub (its moment about the axle
-    // is what turns the wheel, accounted for in the drive).
-    const Eigen::Vector3d at_patch = ws.normal_load_N * p.normal + ws.lateral_force_N * p.lateral;
+    // The radial load and Fy act at the patch; Fx at the hub (its moment
+    // about the axle is what turns the wheel, accounted for in the drive).
+    const Eigen::Vector3d at_patch = p.firm_load * p.normal + ws.lateral_force_N * p.lateral;
     const Eigen::Vector3d at_hub = ws.longitudinal_force_N * p.heading;
     body_->addBaseForce(bt(Eigen::Vector3d(at_patch + at_hub)));
     body_->addBaseTorque(bt(Eigen::Vector3d((p.point - com).cross(at_patch) + (p.hub - com).cross(at_hub))));
-    TyreKinematics k = p.k;
-    k.rolling_speed = side_speed_[side] * p.arm;
-    advance_deflection(tp, k, dt_s, ws.deflection);
+    advance_deflection(tp, TyreKinematics{p.k.normal_load_N, p.k.contact_speed_x, p.k.contact_speed_y,
+                                          side_speed_[side] * p.arm},
+                       dt_s, ws.deflection);
   }
 }
 

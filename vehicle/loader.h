@@ -10,6 +10,8 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <LinearMath/btAlignedObjectArray.h>
+#include <LinearMath/btVector3.h>
 
 #include <array>
 #include <memory>
@@ -34,23 +36,26 @@ constexpr int kMachineCollisionGroup = 1 << 6;
 constexpr int kGroundCollisionGroup = 1 << 7;
 constexpr int kTyreRayGroup = 1 << 8;
 
-// What the ground under one wheel does, for soft soil (the engine fills it
-// from the terrain's contact model). Firm ground is found by ray tests.
+// What the soil under one wheel does this step (the engine fills it from
+// the terrain's contact model; firm ground is found by ray tests).
 struct SoftWheelContact {
-  bool active = false;           // the wheel's footprint meets a soil region
-  double soft_fraction = 0.0;    // share of the load carried by soil, 0..1
-  double normal_load_N = 0.0;    // Bekker reaction of the soil under the wheel
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();
-  // Janosi-Hanamoto shear: tau = (c + sigma tan phi) (1 - exp(-j / K)).
-  double cohesion_Pa = 0.0, friction_angle_rad = 0.0, shear_modulus_K_m = 0.01;
-  double contact_area_m2 = 0.0, contact_length_m = 0.0;
-  double extra_force_N[3] = {0, 0, 0};  // other soil reactions (bulldozing), world frame
+  bool active = false;  // the wheel touches soil
+  // The soil's pressure on the wheel (Bekker, with its compaction
+  // resistance in the horizontal part), world frame, torque about the hub.
+  Eigen::Vector3d force_N = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque_Nm = Eigen::Vector3d::Zero();
+  double contact_area_m2 = 0.0;
+  Eigen::Vector3d contact_point_m = Eigen::Vector3d::Zero();
+  SoilShear shear;
 };
 
 struct WheelState {
   bool on_ground = false;
-  double normal_load_N = 0.0;
+  double normal_load_N = 0.0;       // firm and soil together
+  double soil_load_N = 0.0;         // the soil's vertical part
+  double soil_contact_area_m2 = 0.0;
+  double soil_contact_length_m = 0.0;
+  bool soil_sheared = false;        // traction at the soil's shear strength
   double slip_ratio = 0.0, slip_angle_rad = 0.0;
   double longitudinal_force_N = 0.0, lateral_force_N = 0.0;
   Eigen::Vector3d contact_point_m = Eigen::Vector3d::Zero();
@@ -84,11 +89,19 @@ class Loader {
   // payload and for terrain reactions on the bucket. Cleared by each step.
   void add_force(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& point_m);
 
+  // The same with a torque (world), as the soil's reaction comes.
+  void add_wrench(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& torque_Nm,
+                  const Eigen::Vector3d& point_m);
+
   const LoaderDescription& description() const { return d_; }
+  // Velocity of a link's centre of mass and its angular velocity, world.
+  void link_velocity(int link, Eigen::Vector3d& velocity, Eigen::Vector3d& angular_velocity) const;
+  Eigen::Vector3d link_centre_of_mass(int link) const;
   Eigen::Isometry3d link_pose(int link) const;          // link frame in world
   Eigen::Vector3d chassis_velocity() const;             // of the chassis COM, world
   Eigen::Vector3d chassis_angular_velocity() const;     // world
   Eigen::Vector3d centre_of_mass() const;               // whole machine, world
+  Eigen::Vector3d centre_of_chassis_mass() const;       // the chassis link's, world
   double joint_angle(int joint) const;
   double joint_speed(int joint) const;
   Eigen::Vector3d wheel_hub(int wheel) const;
@@ -108,6 +121,8 @@ class Loader {
   btMultiBody* body_ = nullptr;
   std::vector<btMultiBodyLinkCollider*> colliders_;
   std::vector<btCollisionShape*> shapes_;
+  // compTreeLinkVelocities output, sized once (no allocation per call).
+  mutable btAlignedObjectArray<btVector3> omega_scratch_, velocity_scratch_;
   std::vector<btMultiBodyJointMotor*> motors_;
   std::vector<btMultiBodyJointLimitConstraint*> limits_;
   std::vector<WheelState> wheels_;

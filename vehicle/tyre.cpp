@@ -19,6 +19,25 @@ double relax(double x, double drive, double rate, double dt) {
   return x * decay + drive * (1.0 - decay) / rate;
 }
 
+// Below low_speed the patch's spring has little damping of its own: add
+// some, fading out smoothly (Pacejka 7.2, "low speed" damping).
+void add_low_speed_damping(const TyreParameters& p, const TyreKinematics& k, TyreForce& f) {
+  const double v = std::abs(k.contact_speed_x);
+  if (v >= p.low_speed_m_per_s) return;
+  const double w = 0.5 * (1.0 + std::cos(3.14159265358979323846 * v / p.low_speed_m_per_s));
+  f.longitudinal_N -= w * p.low_speed_damping_N_s_per_m * (k.contact_speed_x - k.rolling_speed);
+  f.lateral_N -= w * p.low_speed_damping_N_s_per_m * k.contact_speed_y;
+}
+
+void cap_force(TyreForce& f, double limit) {
+  const double magnitude = std::hypot(f.longitudinal_N, f.lateral_N);
+  if (magnitude > limit && magnitude > 0.0) {
+    const double s = limit / magnitude;
+    f.longitudinal_N *= s;
+    f.lateral_N *= s;
+  }
+}
+
 }  // namespace
 
 TyreForce magic_formula(const TyreParameters& p, double slip_ratio, double slip_angle_rad, double normal_load_N) {
@@ -46,23 +65,31 @@ TyreForce firm_tyre_force(const TyreParameters& p, const TyreDeflection& u, cons
   const double Fz = k.normal_load_N;
   if (!(Fz > 0.0)) return {};
   TyreForce f = magic_formula(p, deflection_slip_ratio(p, u), deflection_slip_angle(p, u), Fz);
-  // Below low_speed the patch's spring has little damping of its own: add
-  // some, fading out smoothly (Pacejka 7.2, "low speed" damping).
-  const double v = std::abs(k.contact_speed_x);
-  if (v < p.low_speed_m_per_s) {
-    const double w = 0.5 * (1.0 + std::cos(3.14159265358979323846 * v / p.low_speed_m_per_s));
-    f.longitudinal_N -= w * p.low_speed_damping_N_s_per_m * (k.contact_speed_x - k.rolling_speed);
-    f.lateral_N -= w * p.low_speed_damping_N_s_per_m * k.contact_speed_y;
-  }
-  // Never more than the ground's friction can give.
-  const double limit = std::max(p.mu_x, p.mu_y) * Fz;
-  const double magnitude = std::hypot(f.longitudinal_N, f.lateral_N);
-  if (magnitude > limit) {
-    const double s = limit / magnitude;
-    f.longitudinal_N *= s;
-    f.lateral_N *= s;
-  }
+  add_low_speed_damping(p, k, f);
+  cap_force(f, std::max(p.mu_x, p.mu_y) * Fz);  // never more than friction gives
   return f;
+}
+
+SoilTyreForce soil_tyre_force(const TyreParameters& p, const TyreDeflection& u, const SoilShear& soil,
+                              const TyreKinematics& k, double contact_area_m2) {
+  SoilTyreForce out;
+  const double W = k.normal_load_N;
+  if (!(W > 0.0) || !(soil.contact_length_m > 0.0)) return out;
+  const double strength = soil.cohesion_Pa * contact_area_m2 + W * std::tan(soil.friction_angle_rad);
+  const double kappa = deflection_slip_ratio(p, u);
+  const double tan_alpha = std::tan(deflection_slip_angle(p, u));
+  const double slip = std::hypot(kappa, tan_alpha);
+  if (slip > 1e-12) {
+    const double x = slip * soil.contact_length_m / soil.shear_modulus_K_m;  // j_max / K
+    // 1 - (1 - e^-x) / x, by its series where x is small (no cancellation).
+    const double mobilised = x < 1e-4 ? 0.5 * x - x * x / 6.0 : 1.0 - (1.0 - std::exp(-x)) / x;
+    out.force.longitudinal_N = strength * mobilised * kappa / slip;
+    out.force.lateral_N = strength * mobilised * tan_alpha / slip;
+    out.at_strength = mobilised > 0.9;
+  }
+  add_low_speed_damping(p, k, out.force);
+  cap_force(out.force, strength);
+  return out;
 }
 
 void advance_deflection(const TyreParameters& p, const TyreKinematics& k, double dt_s, TyreDeflection& u) {
