@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace skidsim::engine {
 namespace {
@@ -75,16 +76,28 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
   body_in_soil_.assign(d.wheels.size() + link_boxes_.size(), false);
 }
 
-terrain::BodyReaction World::soil_on_body(int body_id, const terrain::BodyGeometry& shape,
-                                          const terrain::BodyMotion& motion) {
+double World::highest_soil_under(const Eigen::AlignedBox3d& box) const {
   const terrain::GridSpec& spec = grid_->spec();
-  const double half = 0.5 * spec.cell_size_m;
-  const Eigen::AlignedBox3d box = shape.world_bounds();
-  const bool over = box.max().x() > spec.origin_m.x() - half &&
-                    box.min().x() < spec.origin_m.x() + spec.cell_size_m * (spec.nx - 1) + half &&
-                    box.max().y() > spec.origin_m.y() - half &&
-                    box.min().y() < spec.origin_m.y() + spec.cell_size_m * (spec.ny - 1) + half;
-  if (!over) {
+  const auto index = [&](double coordinate, double origin, int n) {
+    return static_cast<int>(std::clamp(std::floor((coordinate - origin) / spec.cell_size_m + 0.5), -1.0, static_cast<double>(n)));
+  };
+  const int i0 = std::max(0, index(box.min().x(), spec.origin_m.x(), spec.nx));
+  const int i1 = std::min(spec.nx - 1, index(box.max().x(), spec.origin_m.x(), spec.nx));
+  const int j0 = std::max(0, index(box.min().y(), spec.origin_m.y(), spec.ny));
+  const int j1 = std::min(spec.ny - 1, index(box.max().y(), spec.origin_m.y(), spec.ny));
+  double highest = -std::numeric_limits<double>::infinity();
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) highest = std::max(highest, grid_->surface_m(i, j));
+  return highest;
+}
+
+terrain::BodyReaction World::soil_on_body(int body_id, const terrain::BodyGeometry& shape,
+                                          const terrain::BodyMotion& motion, double highest_soil_m) {
+  // Only what a scene needs: a body clear of the soil under it (the chassis
+  // over sand, a raised bucket, a wheel on firm ground) costs one scan of
+  // the surface, no contact map.
+  const bool touches = shape.world_bounds().min().z() < highest_soil_m + grid_->cell_size_m();
+  if (!touches) {
     if (body_in_soil_[body_id]) soil_->release(body_id);
     body_in_soil_[body_id] = false;
     return {};
@@ -110,11 +123,14 @@ void World::soil_on_machine() {
     shape.orientation = rotation;
     shape.radius_m = d.tyre.radius_m;
     shape.half_width_m = 0.5 * d.tyre.width_m;
+    shape.clip_above_m = std::numeric_limits<double>::infinity();
+    const double highest = highest_soil_under(shape.world_bounds());
+    shape.clip_above_m = highest + grid_->cell_size_m();
     terrain::BodyMotion motion;
     motion.reference_point_m = shape.centre_m;
     motion.linear_velocity_m_s = v_com + omega.cross(shape.centre_m - com);
     motion.angular_velocity_rad_s = omega;
-    const terrain::BodyReaction r = soil_on_body(static_cast<int>(w), shape, motion);
+    const terrain::BodyReaction r = soil_on_body(static_cast<int>(w), shape, motion, highest);
     vehicle::SoftWheelContact& s = soft_[w];
     s = {};
     if (r.contact_cells == 0) continue;
@@ -143,7 +159,8 @@ void World::soil_on_machine() {
     motion.reference_point_m = lb.shape.centre_m;
     motion.linear_velocity_m_s = v + w.cross(lb.shape.centre_m - loader_->link_centre_of_mass(lb.link));
     motion.angular_velocity_rad_s = w;
-    const terrain::BodyReaction r = soil_on_body(static_cast<int>(d.wheels.size() + k), lb.shape, motion);
+    const terrain::BodyReaction r = soil_on_body(static_cast<int>(d.wheels.size() + k), lb.shape, motion,
+                                                 highest_soil_under(lb.shape.world_bounds()));
     if (r.contact_cells > 0) loader_->add_wrench(lb.link, r.force_N, r.torque_Nm, lb.shape.centre_m);
   }
 }

@@ -78,7 +78,10 @@ class World {
   void watch_stability();
   void soil_on_machine();
   // One body against the soil: its reaction, or a release when it left the grid.
-  terrain::BodyReaction soil_on_body(int body_id, const terrain::BodyGeometry& shape, const terrain::BodyMotion& motion);
+  terrain::BodyReaction soil_on_body(int body_id, const terrain::BodyGeometry& shape, const terrain::BodyMotion& motion,
+                                     double highest_soil_m);
+  // The highest soil surface under a world box (-inf off the grid).
+  double highest_soil_under(const Eigen::AlignedBox3d& box) const;
 
   std::unique_ptr<btDefaultCollisionConfiguration> config_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;

@@ -25,14 +25,6 @@ bool clip_to_slab(double a, double u, double h, double& t_in, double& t_out, boo
 
 }  // namespace
 
-const Eigen::Matrix3d& OrientedBox::rotation() const {
-  if (orientation.coeffs() != rotation_of_) {
-    rotation_ = orientation.toRotationMatrix();
-    rotation_of_ = orientation.coeffs();
-  }
-  return rotation_;
-}
-
 Eigen::AlignedBox3d OrientedBox::world_bounds() const {
   const Eigen::Matrix3d& r = rotation();
   const Eigen::Vector3d reach = r.cwiseAbs() * half_extents_m;
@@ -83,7 +75,7 @@ bool Sphere::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m,
 }
 
 Eigen::AlignedBox3d Cylinder::world_bounds() const {
-  const Eigen::Matrix3d r = orientation.toRotationMatrix();
+  const Eigen::Matrix3d& r = rotation_.of(orientation);
   // Reach along world axis k: the disc's radius times the sine of the angle
   // between the axle and the axis, plus the half width along the axle.
   Eigen::Vector3d reach;
@@ -91,13 +83,38 @@ Eigen::AlignedBox3d Cylinder::world_bounds() const {
     const double along_axle = std::abs(r(k, 1));
     reach[k] = radius_m * std::sqrt(std::max(0.0, 1.0 - along_axle * along_axle)) + half_width_m * along_axle;
   }
-  return {centre_m - reach, centre_m + reach};
+  Eigen::AlignedBox3d full(centre_m - reach, centre_m + reach);
+  if (!(clip_above_m < full.max().z())) return full;
+  // The part of each end disc below the clip height is a circular segment:
+  // in the disc's plane, "down" is the steepest way down, "across" is level.
+  const Eigen::Vector3d axle = r.col(1);
+  Eigen::Vector3d across = axle.cross(Eigen::Vector3d::UnitZ());
+  if (across.norm() < 0.3) return full;  // a wheel lying on its side: keep it simple
+  across.normalize();
+  const Eigen::Vector3d down = axle.cross(across).normalized() * (axle.cross(across).z() < 0.0 ? 1.0 : -1.0);
+  // The lower end disc: the distance along `down` from its centre to where
+  // the clip plane cuts it. Its part below the clip is the larger; one
+  // in-plane rectangle holding it, placed at both ends, bounds every
+  // segment between the discs.
+  const double s_low = (centre_m.z() - half_width_m * std::abs(axle.z()) - clip_above_m) / -down.z();
+  Eigen::AlignedBox3d clipped;
+  if (s_low >= radius_m) {  // nothing below the clip: just the lowest point
+    clipped.extend(Eigen::Vector3d(centre_m - half_width_m * std::copysign(1.0, axle.z()) * axle + radius_m * down));
+    return clipped;
+  }
+  const double from = std::max(s_low, -radius_m);
+  const double half_chord = s_low > 0.0 ? std::sqrt(radius_m * radius_m - s_low * s_low) : radius_m;
+  for (double side : {-half_width_m, half_width_m})
+    for (double along_down : {from, radius_m})
+      for (double a : {-half_chord, half_chord})
+        clipped.extend(Eigen::Vector3d(centre_m + side * axle + along_down * down + a * across));
+  return clipped.intersection(full);
 }
 
 bool Cylinder::lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const {
   // The vertical line in the cylinder's frame: p(t) = a + t u, the axle
   // along y. Inside: p_x^2 + p_z^2 <= R^2 and |p_y| <= h.
-  const Eigen::Matrix3d r = orientation.toRotationMatrix();
+  const Eigen::Matrix3d& r = rotation_.of(orientation);
   const Eigen::Vector3d a = r.transpose() * (Eigen::Vector3d(x_m, y_m, 0.0) - centre_m);
   const Eigen::Vector3d u = r.transpose().col(2);
   double t_in = -std::numeric_limits<double>::infinity(), t_out = std::numeric_limits<double>::infinity();

@@ -6,11 +6,29 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <vector>
 
 #include "terrain/body_geometry.h"
 
 namespace skidsim::terrain {
+
+// The rotation matrix of a shape's quaternion, rebuilt only when the
+// quaternion changes (the contact map queries a shape hundreds of times a step).
+class RotationCache {
+ public:
+  const Eigen::Matrix3d& of(const Eigen::Quaterniond& q) const {
+    if (q.coeffs() != quaternion_) {
+      matrix_ = q.toRotationMatrix();
+      quaternion_ = q.coeffs();
+    }
+    return matrix_;
+  }
+
+ private:
+  mutable Eigen::Matrix3d matrix_ = Eigen::Matrix3d::Identity();
+  mutable Eigen::Vector4d quaternion_ = Eigen::Vector4d(0.0, 0.0, 0.0, 1.0);
+};
 
 // A box of half extents `half_extents_m` centred at `centre_m`, rotated by
 // `orientation` (body to world).
@@ -23,10 +41,8 @@ struct OrientedBox final : BodyGeometry {
   bool lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const override;
 
  private:
-  // The rotation matrix of `orientation`, rebuilt when it changes.
-  const Eigen::Matrix3d& rotation() const;
-  mutable Eigen::Matrix3d rotation_ = Eigen::Matrix3d::Identity();
-  mutable Eigen::Vector4d rotation_of_ = Eigen::Vector4d(0.0, 0.0, 0.0, 1.0);
+  const Eigen::Matrix3d& rotation() const { return rotation_.of(orientation); }
+  RotationCache rotation_;
 };
 
 struct Sphere final : BodyGeometry {
@@ -44,9 +60,16 @@ struct Cylinder final : BodyGeometry {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   double radius_m = 0.3;
   double half_width_m = 0.15;
+  // Only the part below this height matters (the highest soil under the
+  // wheel): world_bounds then covers just that part, so a wheel sunk a few
+  // centimetres maps the cells of its patch, not its whole side view.
+  double clip_above_m = std::numeric_limits<double>::infinity();
 
   Eigen::AlignedBox3d world_bounds() const override;
   bool lowest_hit(double x_m, double y_m, double z_low_m, double z_high_m, VerticalHit* hit) const override;
+
+ private:
+  RotationCache rotation_;
 };
 
 // A closed triangle mesh with outward (counter-clockwise) winding, placed by

@@ -165,3 +165,37 @@ TEST(ContactMap, ABodyAboveTheSoilOrOffTheGridTouchesNothing) {
 
 }  // namespace
 }  // namespace skidsim::terrain
+
+namespace skidsim::terrain {
+namespace {
+
+// A wheel's bounds clipped at a height hold every point of the wheel below
+// that height, and are much smaller than the whole wheel's when it is sunk
+// only a little.
+TEST(CylinderBounds, ClippedBoundsHoldThePartBelowTheClip) {
+  for (double roll : {0.0, 0.2}) {
+    for (double yaw : {0.0, 0.7}) {
+      Cylinder wheel;
+      wheel.centre_m = {1.0, 2.0, 0.45};
+      wheel.radius_m = 0.41;
+      wheel.half_width_m = 0.13;
+      wheel.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+      const Eigen::AlignedBox3d full = wheel.world_bounds();
+      wheel.clip_above_m = 0.10;
+      const Eigen::AlignedBox3d clipped = wheel.world_bounds();
+      EXPECT_LT(clipped.volume(), 0.5 * full.volume());
+      const Eigen::Matrix3d r = wheel.orientation.toRotationMatrix();
+      for (double a = 0.0; a < 6.2832; a += 0.01)
+        for (double rr : {0.2, 0.41})
+          for (double w : {-0.13, 0.0, 0.13}) {
+            const Eigen::Vector3d p = wheel.centre_m + r * Eigen::Vector3d(rr * std::cos(a), w, rr * std::sin(a));
+            if (p.z() <= wheel.clip_above_m) {
+              EXPECT_TRUE(clipped.contains(p)) << p.transpose();
+            }
+          }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace skidsim::terrain

@@ -1,0 +1,72 @@
+// The loader's 2 ms step (issue: the loader), run by `skidsim bench`.
+// Figures go in the README; nothing here asserts a time.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+
+#include "engine/world.h"
+#include "io/loader_files.h"
+#include "io/soil_table.h"
+
+namespace {
+
+using namespace skidsim;
+
+const vehicle::LoaderDescription& shipped_loader() {
+  static const vehicle::LoaderDescription d = io::load_loader(io::default_loader_path());
+  return d;
+}
+
+// Controls that keep the machine busy and on its site: a wide circle with
+// the arm and bucket cycling.
+vehicle::LoaderControls busy_controls(long step) {
+  vehicle::LoaderControls c;
+  c.drive_left = 0.8;
+  c.drive_right = 0.4;
+  c.lift = (step / 1500) % 2 == 0 ? 0.6 : -0.6;
+  c.tilt = (step / 700) % 2 == 0 ? 0.5 : -0.5;
+  return c;
+}
+
+// Machine step on firm ground: multibody, tyres (ray tests), hydraulics and
+// drive. One iteration is one 2 ms step.
+void BM_MachineStepFirm(benchmark::State& state) {
+  engine::FirmGround ground;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation().z() = shipped_loader().tyre.radius_m - 0.01;
+  engine::World world(shipped_loader(), ground, pose, 0.3, 0.0);
+  long step = 0;
+  for (int i = 0; i < 500; ++i) world.step(busy_controls(step++));
+  for (auto _ : state) world.step(busy_controls(step++));
+  state.counters["sim_s_per_s"] = benchmark::Counter(engine::kStepSeconds, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_MachineStepFirm)->Unit(benchmark::kMicrosecond);
+
+// Driving and digging on a 20 m x 20 m dry-sand site (0.5 m of sand) at
+// range(0) cells per metre: the bucket is lowered into the sand on a wide
+// circle, so the wheels, chassis and bucket all press it and the terrain
+// sweeps the ruts and spoil. sim_s_per_s is the real-time factor.
+void BM_MachineOnSand(benchmark::State& state) {
+  const double cells_per_m = static_cast<double>(state.range(0));
+  const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
+  terrain::GridSpec spec;
+  spec.cell_size_m = 1.0 / cells_per_m;
+  spec.nx = spec.ny = static_cast<int>(std::lround(20.0 * cells_per_m));
+  spec.origin_m = Eigen::Vector2d(-10.0, -10.0);
+  auto grid = std::make_unique<terrain::GranularGrid>(spec, sand.flow, engine::kStepSeconds);
+  for (int j = 0; j < spec.ny; ++j)
+    for (int i = 0; i < spec.nx; ++i) grid->set_material_m(i, j, 0.5);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.0, -3.0, 0.5 + shipped_loader().tyre.radius_m);
+  engine::World world(shipped_loader(), engine::FirmGround{}, pose, 0.3, 0.0);
+  world.add_soil_site(std::move(grid), sand.terramechanics);
+  long step = 0;
+  for (int i = 0; i < 500; ++i) world.step(busy_controls(step++));
+  for (auto _ : state) world.step(busy_controls(step++));
+  state.counters["sim_s_per_s"] = benchmark::Counter(engine::kStepSeconds, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["active_cells"] = static_cast<double>(world.terrain()->active_cell_count());
+}
+BENCHMARK(BM_MachineOnSand)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
