@@ -125,7 +125,7 @@ void World::soil_on_machine() {
     shape.half_width_m = 0.5 * d.tyre.width_m;
     shape.clip_above_m = std::numeric_limits<double>::infinity();
     const double highest = highest_soil_under(shape.world_bounds());
-    shape.clip_above_m = highest + grid_->cell_size_m();
+    shape.clip_above_m = highest;  // the contact map looks no higher than the soil
     terrain::BodyMotion motion;
     motion.reference_point_m = shape.centre_m;
     motion.linear_velocity_m_s = v_com + omega.cross(shape.centre_m - com);

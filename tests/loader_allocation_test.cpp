@@ -1,0 +1,94 @@
+// The 2 ms step allocates nothing once warm: counted through the global
+// operator new and Bullet's own allocator hooks. A binary of its own, since
+// it replaces operator new.
+#include <gtest/gtest.h>
+#include <LinearMath/btAlignedAllocator.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "io/soil_table.h"
+#include "tests/loader_support.h"
+
+namespace {
+std::atomic<long> g_allocations{0};
+
+void* bullet_alloc(size_t size, int alignment) {
+  ++g_allocations;
+  return std::aligned_alloc(static_cast<size_t>(alignment), (size + alignment - 1) / alignment * alignment);
+}
+void* bullet_alloc_unaligned(size_t size) {
+  ++g_allocations;
+  return std::malloc(size);
+}
+void bullet_free(void* p) { std::free(p); }
+}  // namespace
+
+void* operator new(size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](size_t size) { return operator new(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, size_t) noexcept { std::free(p); }
+void operator delete[](void* p, size_t) noexcept { std::free(p); }
+
+namespace skidsim::testing {
+namespace {
+
+struct BulletHooks {
+  BulletHooks() {
+    btAlignedAllocSetCustomAligned(bullet_alloc, bullet_free);
+    btAlignedAllocSetCustom(bullet_alloc_unaligned, bullet_free);
+  }
+} hooks;
+
+vehicle::LoaderControls busy(long step) {
+  vehicle::LoaderControls c;
+  c.drive_left = 0.8;
+  c.drive_right = 0.4;
+  c.lift = (step / 1500) % 2 == 0 ? 0.6 : -0.6;
+  c.tilt = (step / 700) % 2 == 0 ? 0.5 : -0.5;
+  return c;
+}
+
+long allocations_in_steps(engine::World& w, long& step, int n) {
+  const long before = g_allocations.load();
+  for (int i = 0; i < n; ++i) w.step(busy(step++));
+  return g_allocations.load() - before;
+}
+
+TEST(LoaderAllocation, FirmGroundStepAllocatesNothingOnceWarm) {
+  const long before = g_allocations.load();
+  auto w = loader_on_ground();
+  EXPECT_GT(g_allocations.load() - before, 0);  // the counter sees the world being built
+  long step = 0;
+  allocations_in_steps(*w, step, 6000);  // every motion and contact seen once
+  EXPECT_EQ(allocations_in_steps(*w, step, 6000), 0);
+}
+
+TEST(LoaderAllocation, SandStepAllocatesNothingOnceWarm) {
+  const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
+  terrain::GridSpec spec;
+  spec.cell_size_m = 0.1;
+  spec.nx = spec.ny = 200;
+  spec.origin_m = Eigen::Vector2d(-10.0, -10.0);
+  auto grid = std::make_unique<terrain::GranularGrid>(spec, sand.flow, engine::kStepSeconds);
+  for (int j = 0; j < spec.ny; ++j)
+    for (int i = 0; i < spec.nx; ++i) grid->set_material_m(i, j, 0.5);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.0, -3.0, 0.5 + shipped_loader().tyre.radius_m);
+  engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.3, 0.0);
+  w.add_soil_site(std::move(grid), sand.terramechanics);
+  long step = 0;
+  allocations_in_steps(w, step, 12000);  // two laps of the circle
+  const long n = allocations_in_steps(w, step, 3000);
+  RecordProperty("allocations", std::to_string(n));
+  EXPECT_EQ(n, 0);
+}
+
+}  // namespace
+}  // namespace skidsim::testing
