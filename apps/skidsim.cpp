@@ -1,5 +1,6 @@
 // skidsim: one command, with subcommands. Thin: parse, wire, report.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <benchmark/benchmark.h>
 
 #include <exception>
@@ -10,7 +11,9 @@
 #include "apps/pour_job.h"
 #include "apps/push_job.h"
 #include "io/atomic_file.h"
+#include "io/loader_files.h"
 #include "io/soil_table.h"
+#include "vehicle/loader_figures.h"
 
 namespace {
 
@@ -41,6 +44,37 @@ void add_job_options(CLI::App* cmd, std::string& out_dir, std::string& soil_id, 
   cmd->add_option("--out", out_dir, "Run directory to write")->capture_default_str();
   cmd->add_option("--soil", soil_id, "Soil id from the soil table")->capture_default_str();
   cmd->add_option("--soil-table", soil_table, "Soil table XML (default: assets/soils.xml)");
+}
+
+// Reads a loader (parameters, URDF, meshes), validates it, and prints the
+// figures its description implies (vehicle/loader_figures.h).
+int check_loader(const std::string& path, bool json) {
+  const skidsim::vehicle::LoaderDescription d = skidsim::io::load_loader(path);
+  const skidsim::vehicle::LoaderFigures f = skidsim::vehicle::loader_figures(d);
+  nlohmann::json j;
+  j["parameters"] = d.parameters_path;
+  j["urdf"] = d.urdf_path;
+  j["links"] = d.links.size();
+  j["wheels"] = d.wheels.size();
+  j["mass_kg"] = f.mass_kg;
+  j["static_tipping_load_kg"] = f.static_tipping_load_kg;
+  j["rated_operating_capacity_kg"] = f.rated_operating_capacity_kg;
+  j["hinge_pin_height_m"] = f.hinge_pin_height_m;
+  j["arm_travel_deg"] = f.arm_travel_deg;
+  j["lift_time_s"] = f.lift_time_s;
+  j["lower_time_s"] = f.lower_time_s;
+  j["dump_time_s"] = f.dump_time_s;
+  j["curl_time_s"] = f.curl_time_s;
+  j["top_speed_km_h"] = f.top_speed_km_h;
+  j["push_force_kN"] = f.push_force_kN;
+  if (json) {
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << "loader " << path << ": valid\n";
+  for (const auto& [key, value] : j.items())
+    if (key != "parameters") std::cout << "  " << key << ": " << value << "\n";
+  return 0;
 }
 
 int list_soils(const std::string& path) {
@@ -105,6 +139,15 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--min-time", bench_min_time, "Minimum seconds per benchmark");
   bench_cmd->add_option("--out", bench_out, "Also write the results as JSON to this file");
 
+  std::string loader_path = skidsim::io::default_loader_path();
+  bool check_json = false;
+  CLI::App* check_cmd = app.add_subcommand(
+      "check", "Validate a loader (parameter file, its URDF and meshes) and print what it implies:\n"
+               "mass, static tipping load, rated capacity, cycle times, travel speed, push force");
+  check_cmd->add_option("--loader", loader_path, "Loader parameter file (its <loader_parameters> names the URDF)")
+      ->capture_default_str();
+  check_cmd->add_flag("--json", check_json, "Print JSON");
+
   std::string soil_table = skidsim::io::default_soil_table_path();
   CLI::App* soils_cmd = app.add_subcommand("soils", "List the soils of the soil table");
   soils_cmd->add_option("--table", soil_table, "Soil table XML")->capture_default_str();
@@ -121,6 +164,7 @@ int main(int argc, char** argv) {
     if (*push_cmd) return skidsim::apps::run_push_job(push);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
+    if (*check_cmd) return check_loader(loader_path, check_json);
   } catch (const skidsim::io::InputError& e) {
     std::cerr << "skidsim: " << e.what() << "\n";
     return 2;

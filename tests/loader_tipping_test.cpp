@@ -4,25 +4,12 @@
 #include <gtest/gtest.h>
 
 #include "tests/loader_support.h"
+#include "vehicle/loader_figures.h"
 
 namespace skidsim::testing {
 namespace {
 
 constexpr double kG = 9.81;
-
-// The lift angle that puts the bucket hinge pin farthest forward.
-double rating_lift_angle() {
-  const auto& d = shipped_loader();
-  double best_q = 0.0, best_x = -1e9;
-  for (double q = d.joints[0].lower_rad; q <= d.joints[0].upper_rad; q += 1e-4) {
-    const Eigen::Vector3d pin = d.joints[0].origin.apply(Eigen::AngleAxisd(q, d.joints[0].axis) * d.joints[1].origin.position_m);
-    if (pin.x() > best_x) {
-      best_x = pin.x();
-      best_q = q;
-    }
-  }
-  return best_q;
-}
 
 // Payload (N, downward at the load centre) that balances the machine about
 // its front contact line, for the pose the simulation is in now.
@@ -45,7 +32,7 @@ double moment_balance_tipping_load(const vehicle::Loader& l) {
 }
 
 TEST(LoaderTipping, StaticTippingLoadMatchesTheMomentBalanceAndTheClass) {
-  const double q = rating_lift_angle();
+  const double q = vehicle::rating_lift_angle(shipped_loader());
   auto w = loader_on_ground(0.0, 0.0, q, q);  // bucket level at full reach
   const auto& d = shipped_loader();
   const int bucket = static_cast<int>(d.links.size()) - 1;

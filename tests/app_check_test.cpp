@@ -1,0 +1,41 @@
+// `skidsim check`: validates a loader and prints its figures; bad files exit 2
+// naming the file.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/app_support.h"
+
+namespace skidsim::testing {
+namespace {
+
+TEST(AppCheck, ShippedLoaderIsValidAndInItsClass) {
+  const CommandResult r = run_skidsim("check --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j["mass_kg"].get<double>(), 2650.0);
+  EXPECT_EQ(j["wheels"].get<int>(), 4);
+  const double ratio = j["static_tipping_load_kg"].get<double>() / j["mass_kg"].get<double>();
+  EXPECT_GT(ratio, 0.45);
+  EXPECT_LT(ratio, 0.65);
+  EXPECT_NEAR(j["hinge_pin_height_m"].get<double>(), 2.80, 0.01);
+  EXPECT_NEAR(j["top_speed_km_h"].get<double>(), 11.0, 1e-9);
+  EXPECT_NEAR(j["push_force_kN"].get<double>(), 24.9, 2.5);  // S570 class: 2535 kgf
+}
+
+TEST(AppCheck, BrokenLoaderExitsTwoNamingTheFile) {
+  const auto dir = std::filesystem::temp_directory_path() / "skidsim_check_test";
+  std::filesystem::create_directories(dir);
+  const auto params = dir / "bad.params.xml";
+  std::ofstream(params) << "<loader_parameters urdf=\"missing.urdf\"/>\n";
+  const CommandResult r = run_skidsim("check --loader " + params.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("bad.params.xml:1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("missing.urdf"), std::string::npos) << r.output;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace skidsim::testing
