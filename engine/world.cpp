@@ -3,6 +3,7 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
@@ -25,17 +26,8 @@ World::World(const vehicle::LoaderDescription& loader, const FirmGround& ground,
   world_->setGravity(btVector3(0, 0, -9.81));
   btContactSolverInfo& info = world_->getSolverInfo();
   info.m_numIterations = 50;
-  auto add_static = [&](btCollisionShape* shape, const btTransform& pose) {
-    shapes_.emplace_back(shape);
-    auto obj = std::make_unique<btCollisionObject>();
-    obj->setCollisionShape(shape);
-    obj->setWorldTransform(pose);
-    obj->setFriction(ground.friction);
-    obj->setRestitution(0.0);
-    world_->addCollisionObject(obj.get(), vehicle::kGroundCollisionGroup,
-                               vehicle::kMachineCollisionGroup | vehicle::kTyreRayGroup);
-    statics_.push_back(std::move(obj));
-  };
+  ground_friction_ = ground.friction;
+  auto add_static = [&](btCollisionShape* shape, const btTransform& pose) { add_static_ground(shape, pose); };
   if (ground.has_plane) {
     btTransform t;
     t.setIdentity();
@@ -47,6 +39,18 @@ World::World(const vehicle::LoaderDescription& loader, const FirmGround& ground,
                btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(Eigen::Vector3d(b.pose.translation()))));
   }
   loader_ = std::make_unique<vehicle::Loader>(loader, *world_, chassis_pose, lift_rad, tilt_rad);
+}
+
+void World::add_static_ground(btCollisionShape* shape, const btTransform& pose) {
+  shapes_.emplace_back(shape);
+  auto obj = std::make_unique<btCollisionObject>();
+  obj->setCollisionShape(shape);
+  obj->setWorldTransform(pose);
+  obj->setFriction(ground_friction_);
+  obj->setRestitution(0.0);
+  world_->addCollisionObject(obj.get(), vehicle::kGroundCollisionGroup,
+                             vehicle::kMachineCollisionGroup | vehicle::kTyreRayGroup);
+  statics_.push_back(std::move(obj));
 }
 
 World::~World() {
@@ -67,6 +71,29 @@ void World::set_link_load(int link, const Eigen::Vector3d& force_N, const Eigen:
 void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil) {
   grid_ = std::move(grid);
   soil_ = std::make_unique<terrain::SoilContactModel>(*grid_, soil);
+  // The site's hard base is firm ground for Bullet: the tyres' rays and the
+  // machine's boxes meet it as a rigid contact (stable at any stiffness), so
+  // the terrain's own base spring is taken out of the reactions below.
+  const terrain::GridSpec& spec = grid_->spec();
+  base_heights_.resize(static_cast<size_t>(spec.nx) * spec.ny);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int j = 0; j < spec.ny; ++j)
+    for (int i = 0; i < spec.nx; ++i) {
+      const double b = grid_->base_m(i, j);
+      base_heights_[grid_->index(i, j)] = b;
+      lo = std::min(lo, b);
+      hi = std::max(hi, b);
+    }
+  lo -= 0.5;
+  hi += 0.5;
+  auto* base = new btHeightfieldTerrainShape(spec.nx, spec.ny, base_heights_.data(), lo, hi, 2, false);
+  base->setLocalScaling(btVector3(spec.cell_size_m, spec.cell_size_m, 1.0));
+  // Bullet centres a heightfield on its bounds; vertex (i, j) is cell (i, j)'s centre.
+  btTransform pose;
+  pose.setIdentity();
+  pose.setOrigin(btVector3(spec.origin_m.x() + 0.5 * spec.cell_size_m * (spec.nx - 1),
+                           spec.origin_m.y() + 0.5 * spec.cell_size_m * (spec.ny - 1), 0.5 * (lo + hi)));
+  add_static_ground(base, pose);
   const vehicle::LoaderDescription& d = loader_->description();
   soft_.assign(d.wheels.size(), {});
   wheel_shapes_.assign(d.wheels.size(), {});
@@ -135,8 +162,8 @@ void World::soil_on_machine() {
     s = {};
     if (r.contact_cells == 0) continue;
     s.active = true;
-    s.force_N = r.force_N;
-    s.torque_Nm = r.torque_Nm;
+    s.force_N = r.force_N - r.base_force_N;
+    s.torque_Nm = r.torque_Nm - r.base_torque_Nm;
     s.contact_area_m2 = r.contact_area_m2;
     s.contact_point_m = r.shear_point_m;
     const int ci = std::clamp(static_cast<int>(std::lround((shape.centre_m.x() - spec.origin_m.x()) / spec.cell_size_m)), 0, spec.nx - 1);
@@ -161,7 +188,8 @@ void World::soil_on_machine() {
     motion.angular_velocity_rad_s = w;
     const terrain::BodyReaction r = soil_on_body(static_cast<int>(d.wheels.size() + k), lb.shape, motion,
                                                  highest_soil_under(lb.shape.world_bounds()));
-    if (r.contact_cells > 0) loader_->add_wrench(lb.link, r.force_N, r.torque_Nm, lb.shape.centre_m);
+    if (r.contact_cells > 0)
+      loader_->add_wrench(lb.link, r.force_N - r.base_force_N, r.torque_Nm - r.base_torque_Nm, lb.shape.centre_m);
   }
 }
 

@@ -21,6 +21,7 @@ class btMultiBodyConstraintSolver;
 class btMultiBodyDynamicsWorld;
 class btCollisionObject;
 class btCollisionShape;
+class btTransform;
 
 namespace skidsim::engine {
 
@@ -57,8 +58,9 @@ class World {
   // Soft soil: the granular automaton of a site and the soil's mechanics.
   // Wheels (rigid cylinders of the tyre's size) and the links' collision
   // boxes (chassis belly, bucket) whose footprint meets the grid get the
-  // soil's reaction; the terrain sweeps once per step. The grid's hard base is the site's floor
-  // (give the firm ground's plane at or below it).
+  // soil's reaction; the terrain sweeps once per step. The grid's hard base
+  // becomes rigid ground (a Bullet heightfield) under the site. The base is
+  // read once, here.
   void add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil);
   terrain::GranularGrid* terrain() { return grid_.get(); }
   terrain::SoilContactModel* soil_contact() { return soil_.get(); }
@@ -76,6 +78,7 @@ class World {
 
  private:
   void watch_stability();
+  void add_static_ground(btCollisionShape* shape, const btTransform& pose);
   void soil_on_machine();
   // One body against the soil: its reaction, or a release when it left the grid.
   terrain::BodyReaction soil_on_body(int body_id, const terrain::BodyGeometry& shape, const terrain::BodyMotion& motion,
@@ -109,6 +112,8 @@ class World {
   };
   std::vector<LinkBox> link_boxes_;
   std::vector<bool> body_in_soil_;  // wheels, then link boxes
+  std::vector<double> base_heights_;  // the soil site's hard base, Bullet's heightfield data
+  double ground_friction_ = 0.8;
 };
 
 }  // namespace skidsim::engine

@@ -191,6 +191,11 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
   if (-c.normal.z() <= 0.0) force = Eigen::Vector3d(0.0, 0.0, vertical);
   out.force_N += force;
   out.torque_Nm += (c.point_m - motion.reference_point_m).cross(force);
+  if (base_force > 0.0) {
+    const Eigen::Vector3d base = force * (base_force / vertical);
+    out.base_force_N += base;
+    out.base_torque_Nm += (c.point_m - motion.reference_point_m).cross(base);
+  }
   out.normal_stiffness_N_per_m += slope * area + base_stiffness;
   out.normal_damping_N_s_per_m += damping * area;
   if (vertical <= 0.0) return;

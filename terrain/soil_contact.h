@@ -67,6 +67,10 @@ struct BodyReaction {
   Eigen::Vector3d shear_point_m = Eigen::Vector3d::Zero();
   // Per direction of motion +x, -x, +y, -y: the wedge that resists it.
   std::array<WedgeReaction, kFaceCount> wedge{};
+  // The hard base's part of force_N and torque_Nm: an engine that makes the
+  // base a rigid contact of its own (as skidsim's does) takes it out.
+  Eigen::Vector3d base_force_N = Eigen::Vector3d::Zero();
+  Eigen::Vector3d base_torque_Nm = Eigen::Vector3d::Zero();
   // Diagnostics.
   double contact_area_m2 = 0.0;
   double base_penetration_m = 0.0;  // deepest point of the body below the hard base

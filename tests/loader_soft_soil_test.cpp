@@ -210,3 +210,55 @@ TEST(LoaderSoftSoil, FullSpeedPivotTurnOnSand) {
 
 }  // namespace
 }  // namespace skidsim::testing
+
+namespace skidsim::testing {
+namespace {
+
+// The bucket pushed down onto the hard base of a soil site (no sand, or a
+// thin layer) behaves as on firm ground without a site: the base is a rigid
+// contact, not a stiff explicit spring that would launch the machine. (The
+// arm pushing down lifts the machine's front, on either.)
+TEST(LoaderSoftSoil, BucketPressedOntoTheSitesHardBaseIsLikeFirmGround) {
+  struct Motion {
+    double fastest = 0.0, highest = 0.0;
+  };
+  auto run = [](bool site, double layer_m, double start_lift) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation().z() = shipped_loader().tyre.radius_m - 0.01 + layer_m;
+    engine::World w(shipped_loader(), engine::FirmGround{}, pose, start_lift, start_lift);
+    if (site) {
+      terrain::GridSpec spec;
+      spec.cell_size_m = 0.05;
+      spec.nx = 160;
+      spec.ny = 80;
+      spec.origin_m = {-4.0, -2.0};
+      const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
+      auto grid = std::make_unique<terrain::GranularGrid>(spec, sand.flow, engine::kStepSeconds);
+      for (int j = 0; j < spec.ny; ++j)
+        for (int i = 0; i < spec.nx; ++i) grid->set_material_m(i, j, layer_m);
+      w.add_soil_site(std::move(grid), sand.terramechanics);
+    }
+    vehicle::LoaderControls c;
+    c.parking_brake = true;
+    c.lift = -1.0;
+    Motion m;
+    for (int s = 0; s < 2000; ++s) {
+      w.step(c);
+      m.fastest = std::max(m.fastest, w.loader().chassis_velocity().norm());
+      m.highest = std::max(m.highest, w.loader().link_pose(0).translation().z());
+    }
+    EXPECT_TRUE(w.events().finite);
+    return m;
+  };
+  for (double start_lift : {0.0, 0.1}) {
+    const Motion firm = run(false, 0.0, start_lift);
+    for (double layer_m : {0.0, 0.02}) {
+      const Motion soil = run(true, layer_m, start_lift);
+      EXPECT_LT(soil.fastest, firm.fastest + 0.3) << layer_m << " m of sand, lift " << start_lift;
+      EXPECT_LT(soil.highest, firm.highest + layer_m + 0.05) << layer_m << " m of sand, lift " << start_lift;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace skidsim::testing
