@@ -315,6 +315,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       en.rated_rpm = a.number_in("rated_rpm", 100.0, 10000.0);
       en.inertia_kg_m2 = a.number_in("inertia_kg_m2", 1e-3, 1e3);
       en.governor_droop = a.number_in("governor_droop", 0.005, 0.5);
+      en.friction_torque_N_m = a.number_in("friction_torque_N_m", 0.0, 1e5);
       a.reject_unknown();
       if (!(en.rated_rpm > en.idle_rpm)) a.fail("rated_rpm must exceed idle_rpm");
       for (const tinyxml2::XMLElement* p = e->FirstChildElement(); p; p = p->NextSiblingElement()) {

@@ -81,6 +81,49 @@ TEST(LoaderDrive, StandsOnATwentyDegreeSlopeWithTheBrakeOnWithoutCreep) {
   }
 }
 
+// Throttle shut: the governor holds idle, the pumps turn slower, and the
+// drive still has the engine's idle power: it drives slowly on the flat and
+// holds on a slope with the levers in neutral and no brake.
+TEST(LoaderDrive, ThrottleShutDrivesSlowlyAndHoldsOnASlope) {
+  const auto& d = shipped_loader();
+  {
+    auto w = loader_on_ground();
+    vehicle::LoaderControls c;
+    c.throttle = 0.0;
+    c.drive_left = c.drive_right = 1.0;
+    run_for(*w, c, 6.0);
+    // The governor sits on its idle droop line, between idle and idle plus
+    // the droop; the pumps' flow, and the speed, follow the engine.
+    const double rpm = w->loader().engine_speed_rpm();
+    EXPECT_GT(rpm, d.engine.idle_rpm - 50.0);
+    EXPECT_LT(rpm, d.engine.idle_rpm + d.engine.governor_droop * d.engine.rated_rpm);
+    const double expected = d.drive.top_speed_m_per_s * rpm / (d.engine.rated_rpm * (1.0 + d.engine.governor_droop));
+    EXPECT_NEAR(w->loader().chassis_velocity().norm(), expected, 0.03 * expected);
+  }
+  {
+    auto w = loader_on_ground(10.0 * kPi / 180.0);
+    vehicle::LoaderControls c;
+    c.throttle = 0.0;
+    const Eigen::Vector3d before = w->loader().link_pose(0).translation();
+    run_for(*w, c, 3.0);
+    const double drift = (w->loader().link_pose(0).translation() - before).norm();
+    RecordProperty("neutral_drift_10deg_3s_m", std::to_string(drift));
+    EXPECT_LT(drift, 0.05);  // the hydrostats' droop under the slope's load, no runaway
+  }
+  {
+    // With the throttle open and no load the engine runs up to high idle,
+    // and back down to idle when it is shut (friction slows it).
+    auto w = loader_on_ground();
+    vehicle::LoaderControls c;
+    c.throttle = 1.0;
+    run_for(*w, c, 3.0);
+    EXPECT_GT(w->loader().engine_speed_rpm(), d.engine.rated_rpm);
+    c.throttle = 0.0;
+    run_for(*w, c, 5.0);
+    EXPECT_NEAR(w->loader().engine_speed_rpm(), d.engine.idle_rpm * (1.0 + d.engine.governor_droop * d.engine.rated_rpm / d.engine.idle_rpm), 60.0);
+  }
+}
+
 TEST(LoaderDrive, SameControlsGiveTheSameStateBitForBit) {
   auto run = [] {
     auto w = loader_on_ground();

@@ -70,6 +70,34 @@ TEST(LoaderHydraulics, ClosedSpoolsHoldTheArmAndBucket) {
   EXPECT_NEAR(w->loader().joint_angle(1), tilt, 1e-4);
 }
 
+// Lowering a heavy load: the load sits on the piston side, which holds it
+// (up to its relief); the arm comes down at the flow's speed, no faster.
+TEST(LoaderHydraulics, HeavyLoadIsLoweredAtTheFlowsSpeed) {
+  auto w = loader_on_ground(0.0, 0.0, 1.2, 0.0);  // bucket rolled back: it stays clear of the ground
+  const auto& d = shipped_loader();
+  const int bucket = static_cast<int>(d.links.size()) - 1;
+  w->set_link_load(bucket, Eigen::Vector3d(0, 0, -9.81 * 1000.0), d.bucket_load_centre_m);
+  vehicle::LoaderControls c;
+  run_for(*w, c, 1.0);
+  c.lift = -1.0;
+  const vehicle::Cylinder& cyl = d.cylinders[0];
+  double fastest = 0.0, weakest_push = 1e300;
+  int moving = 0;
+  for (int i = 0; i < 1500; ++i) {
+    w->step(c);
+    if (i < 50 || w->loader().joint_angle(0) < 0.15) continue;  // skip the start and the end stop
+    const double flow = d.implement_pump.flow_at_rated_m3_per_s * w->loader().engine_speed_rpm() / d.engine.rated_rpm;
+    fastest = std::max(fastest, -w->loader().cylinders()[0].speed_m_per_s / (flow / cyl.annulus_area_m2()));
+    weakest_push = std::min(weakest_push, w->loader().cylinders()[0].force_N);
+    ++moving;
+  }
+  ASSERT_GT(moving, 500);
+  RecordProperty("lowering_speed_over_flow_speed", std::to_string(fastest));
+  EXPECT_LT(fastest, 1.02);
+  EXPECT_GT(fastest, 0.95);
+  EXPECT_GT(weakest_push, 0.0);  // the piston side holds the load all the way down
+}
+
 // Pushing the lowered bucket down into firm ground: the arm lifts the
 // machine's front off the ground onto the bucket, the cylinder bottoms out,
 // and the pump's pressure stands at the relief setting, steady.

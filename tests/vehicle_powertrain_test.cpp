@@ -53,7 +53,12 @@ TEST(Powertrain, DriveFollowsTheLeverUntilReliefAndTheBrakeHolds) {
   EXPECT_LT(w, 0.0);  // pushed back
   // Power limit: with little power the torque bound drops.
   const DriveSideCommand weak = drive_side_command(d.drive, d.engine, r, high_idle, 1.0, 1000.0, 5.0, false);
-  EXPECT_NEAR(weak.torque_limit_N_m, d.drive.efficiency * 1000.0 / 5.0, 1e-9);
+  EXPECT_NEAR(weak.motoring_torque_limit_N_m, d.drive.efficiency * 1000.0 / 5.0, 1e-9);
+  EXPECT_NEAR(weak.torque_limit_N_m, relief, 1e-6);  // holding costs no power
+  w = 5.0;
+  EXPECT_NEAR(advance_drive_side(d.drive, weak, 2.0 * relief, 0.002, w), weak.motoring_torque_limit_N_m, 1e-9);
+  w = -1.0;  // pushed backwards against a forward lever: braking, up to relief
+  EXPECT_NEAR(advance_drive_side(d.drive, weak, 2.0 * relief, 0.002, w), relief, 1e-9);
   // Parking brake: locked below its torque, slips above it.
   const DriveSideCommand brake = drive_side_command(d.drive, d.engine, r, high_idle, 1.0, 1e9, 0.0, true);
   w = 0.0;

@@ -216,7 +216,8 @@ void Loader::pre_step(const LoaderControls& controls, double dt_s, const SoftWhe
   // Engine: the governor's torque against the pumps' (semi-implicit in speed).
   const double w = std::max(engine_speed_rad_s_, 1.0);
   const double load = (implement_power_W_ / d_.implement_pump.efficiency + drive_power_W_) / w;
-  const double torque = engine_torque_N_m(d_.engine, controls.throttle, engine_speed_rad_s_);
+  const double torque = engine_torque_N_m(d_.engine, controls.throttle, engine_speed_rad_s_) -
+                        (engine_speed_rad_s_ > 0.0 ? d_.engine.friction_torque_N_m : 0.0);
   engine_speed_rad_s_ = std::max(0.0, engine_speed_rad_s_ + dt_s * (torque - load) / d_.engine.inertia_kg_m2);
 }
 
@@ -232,6 +233,12 @@ void Loader::apply_hydraulics(const LoaderControls& c, double dt_s) {
     cylinder_flow_[i] = flow;
     btMultiBodyJointMotor* motor = motors_[j];
     const double area = flow >= 0.0 ? cyl.piston_area_m2() : cyl.annulus_area_m2();
+    // The force bound follows the chamber that carries the load, known from
+    // the last step's force: pushing loads the piston side, pulling the rod
+    // side (a load lowered on the piston side is held to its relief, not the
+    // rod side's; Bullet's motor row is symmetric, so the bound is chosen).
+    const double loaded_area =
+        cylinder_state_[i].force_N >= 0.0 ? cyl.piston_area_m2() : cyl.annulus_area_m2();
     // A closed spool locks the cylinder (load-holding valves): hold the angle
     // it had, up to the relief force on the piston side.
     if (flow == 0.0) {
@@ -239,7 +246,7 @@ void Loader::apply_hydraulics(const LoaderControls& c, double dt_s) {
       holding_[j] = true;
       motor->setVelocityTarget(0.0, 1.0);
       motor->setPositionTarget(hold_angle_[j], 0.2);
-      motor->setMaxAppliedImpulse(cyl.relief_pressure_Pa * cyl.piston_area_m2() * std::abs(k.moment_arm_m) * dt_s);
+      motor->setMaxAppliedImpulse(cyl.relief_pressure_Pa * loaded_area * std::abs(k.moment_arm_m) * dt_s);
       continue;
     }
     holding_[j] = false;
@@ -250,7 +257,7 @@ void Loader::apply_hydraulics(const LoaderControls& c, double dt_s) {
                    kMaxJointSpeed);
     motor->setPositionTarget(0.0, 0.0);
     motor->setVelocityTarget(joint_speed, 1.0);
-    motor->setMaxAppliedImpulse(cyl.relief_pressure_Pa * area * std::abs(k.moment_arm_m) * dt_s);
+    motor->setMaxAppliedImpulse(cyl.relief_pressure_Pa * loaded_area * std::abs(k.moment_arm_m) * dt_s);
   }
 }
 
@@ -362,8 +369,10 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
   }
 
   // Drive: each side's wheel speed under its servo and the tyres' torque.
-  const double engine_power = full_load_power_W(d_.engine, engine_speed_rad_s_) *
-                              std::clamp(c.throttle, 0.0, 1.0);
+  // The most the engine can give at its present speed, less what the
+  // implement takes (the pumps' anti-stall control reads the engine speed;
+  // the governor then meets the load, lugging down if it must).
+  const double engine_power = full_load_power_W(d_.engine, engine_speed_rad_s_);
   const double available = std::max(0.0, engine_power - implement_power_W_ / d_.implement_pump.efficiency);
   std::array<double, 2> motor_torque{0.0, 0.0};
   drive_power_W_ = 0.0;

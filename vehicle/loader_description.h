@@ -78,6 +78,7 @@ struct EngineParameters {
   double idle_rpm = 0.0, rated_rpm = 0.0;
   double inertia_kg_m2 = 0.0;     // crank, flywheel and pumps
   double governor_droop = 0.0;    // fraction of rated speed from no load to full load
+  double friction_torque_N_m = 0.0;  // friction and accessories, against the crank
 };
 
 // A fixed-displacement gear pump for the implement (lift and tilt share it).

@@ -44,7 +44,7 @@ DriveSideCommand drive_side_command(const DriveParameters& d, const EngineParame
   DriveSideCommand c;
   if (parking_brake) {
     c.target_speed_rad_s = 0.0;
-    c.torque_limit_N_m = d.brake_torque_N_m;
+    c.torque_limit_N_m = c.motoring_torque_limit_N_m = d.brake_torque_N_m;
     c.brake = true;
     return c;
   }
@@ -58,7 +58,8 @@ DriveSideCommand drive_side_command(const DriveParameters& d, const EngineParame
   const double speed_floor = 0.05 * d.top_speed_m_per_s / tyre_radius_m;
   const double power_torque = d.efficiency * std::max(0.0, power_available_W) /
                               std::max(std::abs(wheel_speed_rad_s), speed_floor);
-  c.torque_limit_N_m = std::min(relief_torque, power_torque);
+  c.torque_limit_N_m = relief_torque;
+  c.motoring_torque_limit_N_m = std::min(relief_torque, power_torque);
   return c;
 }
 
@@ -88,7 +89,13 @@ double advance_drive_side(const DriveParameters& d, const DriveSideCommand& c, d
     wheel_speed_rad_s = w1;
     return torque;
   }
-  torque = std::copysign(c.torque_limit_N_m, torque);
+  const bool motoring = torque * wheel_speed_rad_s > 0.0;
+  const double limit = motoring ? c.motoring_torque_limit_N_m : c.torque_limit_N_m;
+  if (std::abs(torque) <= limit) {
+    wheel_speed_rad_s = w1;
+    return torque;
+  }
+  torque = std::copysign(limit, torque);
   wheel_speed_rad_s += dt_s * (torque - load_torque_N_m) / J;
   // A saturated servo still cannot drive the wheel past its target.
   if ((torque > 0.0 && wheel_speed_rad_s > c.target_speed_rad_s) ||

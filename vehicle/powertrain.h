@@ -34,10 +34,14 @@ std::array<double, 2> implement_flows_m3_per_s(const ImplementPump& pump, const 
 
 // One side of the hydrostatic drive. The wheel speed follows the pump's
 // command (flow) through a stiff servo, its torque bounded by the relief
-// valve and by the engine power the side may take.
+// valve, and while it drives the wheel also by the engine power the side may
+// take (holding and braking cost the engine nothing: no flow).
 struct DriveSideCommand {
   double target_speed_rad_s = 0.0;
-  double torque_limit_N_m = 0.0;
+  double torque_limit_N_m = 0.0;  // relief (holding, braking); the brake's when braked
+  // While the motor drives the wheel (torque and speed the same way) the
+  // pump can give no more than the engine's power: anti-stall.
+  double motoring_torque_limit_N_m = 0.0;
   bool brake = false;  // parking brake: locked up to torque_limit
 };
 
