@@ -144,6 +144,9 @@ vehicle::RigidLink read_link(const urdf::Link& link, const std::string& urdf_pat
     if (mesh.filename.rfind("package://", 0) == 0)
       fail_line(urdf_path, line, where + " visual mesh '" + mesh.filename + "': package:// paths are not supported; "
                                           "give a path relative to the URDF");
+    if (!(mesh.scale.x > 0.0 && mesh.scale.y > 0.0 && mesh.scale.z > 0.0) || !std::isfinite(mesh.scale.x) ||
+        !std::isfinite(mesh.scale.y) || !std::isfinite(mesh.scale.z))
+      fail_line(urdf_path, line, where + " visual mesh '" + mesh.filename + "': scale must be positive");
     vehicle::VisualMesh vm;
     vm.path = fs::absolute(dir / mesh.filename).lexically_normal().string();
     vm.pose = to_pose(v->origin);
@@ -163,7 +166,21 @@ void read_urdf(LoaderDescription& d) {
   console_bridge::useOutputHandler(&log);
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text.str());
   console_bridge::restorePreviousOutputHandler();
-  if (!model) throw InputError(path + ": not a valid URDF: " + (log.last_error.empty() ? "parse failed" : log.last_error));
+  if (!model) {
+    // urdfdom names the link or joint, not the line: find the line of the
+    // first element its message names.
+    int line = 0;
+    size_t best = std::string::npos;
+    for (const auto* index : {&lines.joint, &lines.link})
+      for (const auto& [name, l] : *index) {
+        const size_t at = log.last_error.find("[" + name + "]");
+        if (at != std::string::npos && (best == std::string::npos || at < best)) {
+          best = at;
+          line = l;
+        }
+      }
+    fail_line(path, line, "not a valid URDF: " + (log.last_error.empty() ? std::string("parse failed") : log.last_error));
+  }
 
   const urdf::LinkConstSharedPtr root = model->getRoot();
   auto link_line = [&](const std::string& n) { return lines.link.count(n) ? lines.link.at(n) : 0; };
@@ -190,9 +207,13 @@ void read_urdf(LoaderDescription& d) {
         if (!cyl) fail_line(path, link_line(child->name), "link '" + child->name + "': a wheel needs a <collision><cylinder>");
         if (!(cyl->radius > 0.0 && cyl->length > 0.0))
           fail_line(path, link_line(child->name), "link '" + child->name + "' <cylinder>: radius and length must be positive");
+        // The tyre model takes the axle along the chassis's y.
+        const vehicle::Pose hub = to_pose(j->parent_to_joint_origin_transform);
+        if (std::abs(std::abs(j->axis.y) - 1.0) > 1e-6 || hub.rotation.angularDistance(Eigen::Quaterniond::Identity()) > 1e-6)
+          fail_line(path, jl, "joint '" + j->name + "': a wheel's axle must be the chassis's y (axis 0 1 0, rpy 0 0 0)");
         vehicle::Wheel w;
         w.name = child->name;
-        w.hub_m = to_pose(j->parent_to_joint_origin_transform).position_m;
+        w.hub_m = hub.position_m;
         d.wheels.push_back(w);
         if (d.tyre.radius_m == 0.0) {
           d.tyre.radius_m = cyl->radius;
@@ -308,8 +329,12 @@ LoaderDescription load_loader(const std::string& parameters_path) {
   for (const tinyxml2::XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string name = e->Name();
     AttributeReader a(parameters_path, e);
+    auto once = [&](bool& have) {
+      if (have) a.fail("appears twice");
+      have = true;
+    };
     if (name == "engine") {
-      have_engine = true;
+      once(have_engine);
       auto& en = d.engine;
       en.idle_rpm = a.number_in("idle_rpm", 100.0, 10000.0);
       en.rated_rpm = a.number_in("rated_rpm", 100.0, 10000.0);
@@ -332,14 +357,14 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       if (en.speed_rpm.front() > en.idle_rpm || en.speed_rpm.back() < en.rated_rpm)
         a.fail("the power table must span idle_rpm to rated_rpm");
     } else if (name == "implement_pump") {
-      have_pump = true;
+      once(have_pump);
       d.implement_pump.flow_at_rated_m3_per_s = a.number_in("flow_l_per_min", 1.0, 2000.0) / 60000.0;
       d.implement_pump.efficiency = a.number_in("efficiency", 0.1, 1.0);
       a.reject_unknown();
     } else if (name == "cylinder") {
       read_cylinder(d, parameters_path, e);
     } else if (name == "drive") {
-      have_drive = true;
+      once(have_drive);
       auto& dr = d.drive;
       dr.top_speed_m_per_s = a.number_in("top_speed_km_h", 0.1, 100.0) / 3.6;
       dr.relief_pressure_Pa = a.number_in("relief_MPa", 0.1, 100.0) * 1e6;
@@ -351,7 +376,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       dr.brake_torque_N_m = a.number_in("brake_torque_N_m", 0.0, 1e6);
       a.reject_unknown();
     } else if (name == "tyre") {
-      have_tyre = true;
+      once(have_tyre);
       auto& t = d.tyre;
       t.radial_stiffness_N_per_m = a.number_in("radial_stiffness_kN_per_m", 1.0, 1e5) * 1e3;
       t.radial_damping_N_s_per_m = a.number_in("radial_damping_kN_s_per_m", 0.0, 1e4) * 1e3;
@@ -383,11 +408,13 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       for (auto& cand : d.wheels)
         if (cand.name == link) w = &cand;
       if (!w) a.fail("attribute 'link' = \"" + link + "\": not a wheel (continuous joint on the chassis) in the URDF");
+      for (const std::string& listed : wheel_links)
+        if (listed == link) a.fail("wheel '" + link + "' is listed twice");
       if (side != "left" && side != "right") a.fail("attribute 'side' = \"" + side + "\": expected left or right");
       w->side = side == "left" ? 0 : 1;
       wheel_links.push_back(link);
     } else if (name == "bucket") {
-      have_bucket = true;
+      once(have_bucket);
       const std::string link = a.text("link", true);
       if (d.link_index(link) != static_cast<int>(d.links.size()) - 1)
         a.fail("attribute 'link' = \"" + link + "\": the bucket must be the last link of the implement chain");
@@ -406,11 +433,24 @@ LoaderDescription load_loader(const std::string& parameters_path) {
   need(have_drive, "drive");
   need(have_tyre, "tyre");
   need(have_bucket, "bucket");
+  {
+    // The tyres must carry the machine: static deflection under a quarter of
+    // the radius (the drive's rolling radius would turn negative, and the
+    // chassis would sit on its belly, long before).
+    const double deflection = 9.81 * d.total_mass_kg() / (d.wheels.size() * d.tyre.radial_stiffness_N_per_m);
+    if (deflection > 0.25 * d.tyre.radius_m) {
+      std::ostringstream m;
+      m << "<tyre> radial_stiffness_kN_per_m: the machine would squash its tyres by " << deflection
+        << " m standing (more than a quarter of the radius)";
+      fail_at(parameters_path, root, m.str());
+    }
+  }
   for (size_t j = 0; j < d.joints.size(); ++j) {
     int n = 0;
     for (const auto& c : d.cylinders) n += c.joint == static_cast<int>(j);
     if (n != 1) fail_at(parameters_path, root, "joint '" + d.joints[j].name + "' needs exactly one <cylinder>");
   }
+  if (d.wheels.size() > 8) fail_at(parameters_path, root, "at most 8 wheels are supported");
   if (wheel_links.size() != d.wheels.size())
     fail_at(parameters_path, root, "every URDF wheel needs a <wheel link side> entry");
   int left = 0;

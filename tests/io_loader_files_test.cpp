@@ -134,6 +134,37 @@ TEST_F(BrokenLoader, OutOfRangeParameterIsRejected) {
   expect_error({"skidsteer.params.xml:", "<tyre>", "mu_x", "out of range"});
 }
 
+TEST_F(BrokenLoader, UrdfdomErrorsGetTheLineOfTheElementTheyName) {
+  replace("skidsteer.urdf", "<parent link=\"lift_arm\"/>", "<parent link=\"lift_armm\"/>");
+  expect_error({"skidsteer.urdf:74:", "not a valid URDF", "lift_armm"});
+}
+
+TEST_F(BrokenLoader, WheelListedTwiceOrTwoEnginesAreRejected) {
+  replace("skidsteer.params.xml", "<wheel link=\"wheel_rl\" side=\"left\"/>", "<wheel link=\"wheel_fr\" side=\"left\"/>");
+  expect_error({"skidsteer.params.xml:", "<wheel>", "listed twice"});
+}
+
+TEST_F(BrokenLoader, SecondEngineIsRejected) {
+  replace("skidsteer.params.xml", "<implement_pump", "<engine idle_rpm=\"900\"/>\n  <implement_pump");
+  expect_error({"skidsteer.params.xml:", "<engine>", "appears twice"});
+}
+
+TEST_F(BrokenLoader, WheelAxleOffTheChassisYIsRejected) {
+  replace("skidsteer.urdf", "<origin xyz=\"0.515 0.70 0\" rpy=\"0 0 0\"/><axis xyz=\"0 1 0\"/>",
+          "<origin xyz=\"0.515 0.70 0\" rpy=\"0 0 1.57\"/><axis xyz=\"1 0 0\"/>");
+  expect_error({"skidsteer.urdf:", "joint 'wheel_fl_joint'", "axle"});
+}
+
+TEST_F(BrokenLoader, TyresTooSoftToCarryTheMachineAreRejected) {
+  replace("skidsteer.params.xml", "radial_stiffness_kN_per_m=\"350\"", "radial_stiffness_kN_per_m=\"3\"");
+  expect_error({"skidsteer.params.xml:", "radial_stiffness_kN_per_m", "squash"});
+}
+
+TEST_F(BrokenLoader, MeshScaleMustBePositive) {
+  replace("skidsteer.urdf", "<mesh filename=\"meshes/bucket.obj\"/>", "<mesh filename=\"meshes/bucket.obj\" scale=\"0 0 0\"/>");
+  expect_error({"skidsteer.urdf:", "link 'bucket'", "scale"});
+}
+
 TEST_F(BrokenLoader, MissingUrdfAndMissingParametersAreReported) {
   fs::remove(path("skidsteer.urdf"));
   expect_error({"skidsteer.params.xml:", "skidsteer.urdf", "no such file"});

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "vehicle/cylinder_geometry.h"
 
@@ -69,6 +71,11 @@ Loader::Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& w
   body_->setHasSelfCollision(false);
   body_->setCanSleep(false);
   body_->setBaseWorldTransform(bt(chassis_pose * iso(chassis.com)));
+  const double start[2] = {lift_rad, tilt_rad};
+  for (int j = 0; j < num_links && j < 2; ++j)
+    if (!(start[j] >= d_.joints[j].lower_rad && start[j] <= d_.joints[j].upper_rad))
+      throw std::invalid_argument("joint '" + d_.joints[j].name + "': start angle " + std::to_string(start[j]) +
+                                  " rad is outside its limits");
   if (num_links > 0) body_->setJointPos(0, lift_rad);
   if (num_links > 1) body_->setJointPos(1, tilt_rad);
   world_.addMultiBody(body_, kMachineCollisionGroup, kGroundCollisionGroup);
@@ -366,6 +373,9 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     // spin (smooth at 0). On soil it is the soil's own (compaction).
     const double spin = std::tanh(p.k.rolling_speed / 0.05);
     load_torque[d_.wheels[i].side] += p.arm * ws.longitudinal_force_N + tp.rolling_resistance * p.firm_load * p.arm * spin;
+    // The soil's moment about the axle (the pressure's, off the hub) turns
+    // the wheel, not the chassis: it is the drive's load.
+    if (s) load_torque[d_.wheels[i].side] -= s->torque_Nm.dot(axle);
   }
 
   // Drive: each side's wheel speed under its servo and the tyres' torque.
@@ -392,8 +402,9 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     // The motor's reaction on the chassis, shared by the side's wheels.
     body_->addBaseTorque(bt(Eigen::Vector3d(-axle * motor_torque[side] / side_wheels[side])));
     if (soft && soft[i].active) {
+      const Eigen::Vector3d off_axle = soft[i].torque_Nm - soft[i].torque_Nm.dot(axle) * axle;
       body_->addBaseForce(bt(soft[i].force_N));
-      body_->addBaseTorque(bt(Eigen::Vector3d(soft[i].torque_Nm + (p.hub - com).cross(soft[i].force_N))));
+      body_->addBaseTorque(bt(Eigen::Vector3d(off_axle + (p.hub - com).cross(soft[i].force_N))));
     }
     if (!ws.on_ground) {
       ws.deflection = {};
