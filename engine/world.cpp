@@ -71,6 +71,10 @@ void World::set_link_load(int link, const Eigen::Vector3d& force_N, const Eigen:
 void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil) {
   grid_ = std::move(grid);
   soil_ = std::make_unique<terrain::SoilContactModel>(*grid_, soil);
+  // A machine working a site keeps up to a few thousand cells moving: size
+  // the sweep's lists once so that the step does not allocate.
+  const size_t cells = static_cast<size_t>(grid_->nx()) * grid_->ny();
+  grid_->reserve_active_cells(std::max<size_t>(16384, cells / 8));
   // The site's hard base is firm ground for Bullet: the tyres' rays and the
   // machine's boxes meet it as a rigid contact (stable at any stiffness), so
   // the terrain's own base spring is taken out of the reactions below.
@@ -84,6 +88,9 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
       lo = std::min(lo, b);
       hi = std::max(hi, b);
     }
+  // Tight bounds: Bullet only pairs a collider with the base when it comes
+  // within half a metre (a pair costs a narrow-phase pass over the
+  // triangles under it every step; making one allocates, once).
   lo -= 0.5;
   hi += 0.5;
   auto* base = new btHeightfieldTerrainShape(spec.nx, spec.ny, base_heights_.data(), lo, hi, 2, false);
@@ -101,6 +108,10 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
   for (size_t l = 0; l < d.links.size(); ++l)
     for (const vehicle::CollisionBox& b : d.links[l].collision) link_boxes_.push_back({static_cast<int>(l), b, {}});
   body_in_soil_.assign(d.wheels.size() + link_boxes_.size(), false);
+  for (size_t w = 0; w < d.wheels.size(); ++w)
+    soil_->reserve_body(static_cast<int>(w), std::hypot(2.0 * d.tyre.radius_m, d.tyre.width_m));
+  for (size_t k = 0; k < link_boxes_.size(); ++k)
+    soil_->reserve_body(static_cast<int>(d.wheels.size() + k), 2.0 * link_boxes_[k].box.half_extents_m.norm());
 }
 
 double World::highest_soil_under(const Eigen::AlignedBox3d& box) const {

@@ -144,6 +144,14 @@ MaterialLedger GranularGrid::ledger() const {
   return out;
 }
 
+void GranularGrid::reserve_active_cells(std::size_t cells) {
+  cells = std::min(cells, quanta_.size());
+  pending_.reserve(cells);
+  current_.reserve(cells);
+  changed_.reserve(cells);
+  flux_.reserve(cells);
+}
+
 std::size_t GranularGrid::scratch_bytes() const {
   return pending_.capacity() * sizeof(std::uint32_t) + current_.capacity() * sizeof(std::uint32_t) +
          changed_.capacity() * sizeof(std::uint32_t) + flux_.capacity() * sizeof(CellFlux) +

@@ -146,6 +146,10 @@ class GranularGrid {
 
   // Cells that the next sweep must examine (cells whose 3 x 3 neighbourhood
   // changed). Zero for a terrain at rest.
+  // Sizes the sweep's lists for `cells` active cells (capped at the grid),
+  // so that a busy step does not allocate: the lists otherwise grow to the
+  // largest active set seen so far.
+  void reserve_active_cells(std::size_t cells);
   std::size_t active_cell_count() const { return pending_all_ ? quanta_.size() : pending_.size(); }
   bool at_rest() const { return !pending_all_ && pending_.empty(); }
 

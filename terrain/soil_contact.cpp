@@ -52,6 +52,16 @@ void SoilContactModel::set_soil_region(int i, int j, int soil_index) {
   region_of_cell_[grid_.index(i, j)] = static_cast<std::uint8_t>(soil_index);
 }
 
+void SoilContactModel::reserve_body(int body_id, double diagonal_m) {
+  // Whatever its orientation, a body covers at most a square of its diagonal.
+  BodyState& state = body_state(body_id);
+  const double reach = diagonal_m / grid_.cell_size_m() + 2.0;
+  const std::size_t cells =
+      static_cast<std::size_t>(std::min(reach * reach, static_cast<double>(grid_.nx()) * grid_.ny()));
+  state.covered.reserve(cells);
+  state.covered_next.reserve(cells);
+}
+
 void SoilContactModel::release(int body_id) {
   if (body_id < 0 || body_id >= static_cast<int>(bodies_.size())) return;
   BodyState& state = bodies_[body_id];
@@ -78,8 +88,7 @@ void SoilContactModel::update_covered(BodyState& state) {
   // Cells covered now vs. before; both lists in increasing cell order.
   std::size_t k = 0;
   const std::vector<std::uint32_t>& before = state.covered;
-  std::vector<std::uint32_t> now;
-  now.swap(covered_scratch_);
+  std::vector<std::uint32_t>& now = state.covered_next;
   now.clear();
   for (const CellContact& c : state.next.cells)
     if (c.covered_fraction >= kFullyCovered) now.push_back(c.cell);
@@ -94,7 +103,6 @@ void SoilContactModel::update_covered(BodyState& state) {
       ++n;
     }
   }
-  covered_scratch_.swap(state.covered);
   state.covered.swap(now);
 }
 
@@ -424,6 +432,7 @@ void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMo
 
 BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
   BodyState& state = body_state(body_id);
+  if (state.covered.capacity() == 0) reserve_body(body_id, body.world_bounds().diagonal().norm());
   mapper_.build(grid_, body, motion, &state.next);
   BodyReaction out;
   const ContactMap& now = state.next;

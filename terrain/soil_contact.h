@@ -108,6 +108,10 @@ class SoilContactModel {
   // machine loaded with a saved terrain). The soil its volume overlaps is
   // the caller's to remove.
   void embed(int body_id, const BodyGeometry& body, const BodyMotion& motion);
+  // Sizes a body's lists for its largest footprint (`diagonal_m`, its
+  // longest dimension) so that its steps never allocate for them; otherwise
+  // they are sized at its first contact from its bounds then.
+  void reserve_body(int body_id, double diagonal_m);
   // Forgets a body: it no longer covers its cells (they stay covered while
   // another body covers them).
   void release(int body_id);
@@ -124,7 +128,8 @@ class SoilContactModel {
   struct BodyState {
     ContactMap map;    // this step's (after interact) or last step's
     ContactMap next;   // being built
-    std::vector<std::uint32_t> covered;  // cells this body covers completely
+    std::vector<std::uint32_t> covered;       // cells this body covers completely
+    std::vector<std::uint32_t> covered_next;  // being built (each body keeps its own: no regrowth)
     bool in_contact = false;
   };
   struct Push {
@@ -210,7 +215,6 @@ class SoilContactModel {
   };
   std::vector<FaceRef> interfaces_;
   std::vector<Push> pushes_;
-  std::vector<std::uint32_t> covered_scratch_;  // spare covered-cell list
   std::vector<int> wedge_cells_;
   std::vector<double> wedge_area_;
 };
