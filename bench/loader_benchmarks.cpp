@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "engine/soil_site.h"
 #include "engine/world.h"
 #include "io/loader_files.h"
 #include "io/soil_table.h"
@@ -50,13 +51,7 @@ BENCHMARK(BM_MachineStepFirm)->Unit(benchmark::kMicrosecond);
 void BM_MachineOnSand(benchmark::State& state) {
   const double cells_per_m = static_cast<double>(state.range(0));
   const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
-  terrain::GridSpec spec;
-  spec.cell_size_m = 1.0 / cells_per_m;
-  spec.nx = spec.ny = static_cast<int>(std::lround(20.0 * cells_per_m));
-  spec.origin_m = Eigen::Vector2d(-10.0, -10.0);
-  auto grid = std::make_unique<terrain::GranularGrid>(spec, sand.flow, engine::kStepSeconds);
-  for (int j = 0; j < spec.ny; ++j)
-    for (int i = 0; i < spec.nx; ++i) grid->set_material_m(i, j, 0.5);
+  auto grid = engine::flat_soil_grid(sand.flow, cells_per_m, Eigen::Vector2d(-10.0, -10.0), 20.0, 20.0, 0.5);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.0, -3.0, 0.5 + shipped_loader().tyre.radius_m);
   engine::World world(shipped_loader(), engine::FirmGround{}, pose, 0.3, 0.0);

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "engine/soil_site.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
 
@@ -72,13 +73,7 @@ TEST(LoaderAllocation, FirmGroundStepAllocatesNothingOnceWarm) {
 
 TEST(LoaderAllocation, SandStepAllocatesNothingOnceWarm) {
   const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
-  terrain::GridSpec spec;
-  spec.cell_size_m = 0.1;
-  spec.nx = spec.ny = 200;
-  spec.origin_m = Eigen::Vector2d(-10.0, -10.0);
-  auto grid = std::make_unique<terrain::GranularGrid>(spec, sand.flow, engine::kStepSeconds);
-  for (int j = 0; j < spec.ny; ++j)
-    for (int i = 0; i < spec.nx; ++i) grid->set_material_m(i, j, 0.5);
+  auto grid = engine::flat_soil_grid(sand.flow, 10.0, Eigen::Vector2d(-10.0, -10.0), 20.0, 20.0, 0.5);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.0, -3.0, 0.5 + shipped_loader().tyre.radius_m);
   engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.3, 0.0);

@@ -3,6 +3,7 @@
 // cases (a 1 m drop onto sand, a full-speed pivot turn on sand).
 #include <gtest/gtest.h>
 
+#include "engine/soil_site.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
 
@@ -22,14 +23,8 @@ struct SandSite {
 // the firm ground is the site's hard base).
 std::unique_ptr<engine::World> loader_on_sand(const SandSite& site, Eigen::Vector3d chassis_at = {0, 0, 0},
                                               engine::FirmGround ground = {}) {
-  terrain::GridSpec spec;
-  spec.cell_size_m = 1.0 / site.cells_per_m;
-  spec.nx = static_cast<int>(std::lround(site.length_m * site.cells_per_m));
-  spec.ny = static_cast<int>(std::lround(site.width_m * site.cells_per_m));
-  spec.origin_m = site.origin_m;
-  auto grid = std::make_unique<terrain::GranularGrid>(spec, site.soil.flow, engine::kStepSeconds);
-  for (int j = 0; j < spec.ny; ++j)
-    for (int i = 0; i < spec.nx; ++i) grid->set_material_m(i, j, kSandDepth);
+  auto grid = engine::flat_soil_grid(site.soil.flow, site.cells_per_m, site.origin_m, site.length_m, site.width_m,
+                                     kSandDepth);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = chassis_at + Eigen::Vector3d(0, 0, kSandDepth + shipped_loader().tyre.radius_m);
   auto w = std::make_unique<engine::World>(shipped_loader(), ground, pose, 0.2, 0.0);
@@ -227,16 +222,8 @@ TEST(LoaderSoftSoil, BucketPressedOntoTheSitesHardBaseIsLikeFirmGround) {
     pose.translation().z() = shipped_loader().tyre.radius_m - 0.01 + layer_m;
     engine::World w(shipped_loader(), engine::FirmGround{}, pose, start_lift, start_lift);
     if (site) {
-      terrain::GridSpec spec;
-      spec.cell_size_m = 0.05;
-      spec.nx = 160;
-      spec.ny = 80;
-      spec.origin_m = {-4.0, -2.0};
       const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
-      auto grid = std::make_unique<terrain::GranularGrid>(spec, sand.flow, engine::kStepSeconds);
-      for (int j = 0; j < spec.ny; ++j)
-        for (int i = 0; i < spec.nx; ++i) grid->set_material_m(i, j, layer_m);
-      w.add_soil_site(std::move(grid), sand.terramechanics);
+      w.add_soil_site(engine::flat_soil_grid(sand.flow, 20.0, {-4.0, -2.0}, 8.0, 4.0, layer_m), sand.terramechanics);
     }
     vehicle::LoaderControls c;
     c.parking_brake = true;
