@@ -2,6 +2,7 @@
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btCylinderShape.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
@@ -20,9 +21,6 @@ namespace skidsim::vehicle {
 namespace {
 
 constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
-// Ray fan in each wheel's plane (from straight down along the chassis),
-// so that a wheel meets a step's edge before its hub is over it.
-constexpr std::array<double, 5> kRayAnglesRad = {0.0, -0.3, 0.3, -0.6, 0.6};
 // Fastest joint speed a cylinder motor is asked for, rad/s (near a cylinder's
 // dead centre the flow would ask for more).
 constexpr double kMaxJointSpeed = 3.0;
@@ -115,6 +113,14 @@ Loader::Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& w
     world_.addMultiBodyConstraint(limit);
     limits_.push_back(limit);
   }
+  // Firm-ground probes: one cylinder per wheel, never added to the world.
+  wheel_shape_ = new btCylinderShape(btVector3(d_.tyre.radius_m, 0.5 * d_.tyre.width_m, d_.tyre.radius_m));
+  wheel_shape_->setMargin(0.005);
+  for (size_t w = 0; w < d_.wheels.size(); ++w) {
+    auto* probe = new btCollisionObject();
+    probe->setCollisionShape(wheel_shape_);
+    wheel_probes_.push_back(probe);
+  }
   omega_scratch_.resize(num_links + 1);
   velocity_scratch_.resize(num_links + 1);
   wheels_.resize(d_.wheels.size());
@@ -146,6 +152,8 @@ Loader::~Loader() {
   world_.removeMultiBody(body_);
   delete body_;
   for (auto* s : shapes_) delete s;
+  for (auto* p : wheel_probes_) delete p;
+  delete wheel_shape_;
 }
 
 Eigen::Isometry3d Loader::link_pose(int link) const {
@@ -268,32 +276,44 @@ void Loader::apply_hydraulics(const LoaderControls& c, double dt_s) {
   }
 }
 
-bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration) const {
-  const Eigen::Isometry3d chassis = link_pose(0);
-  const Eigen::Vector3d hub = chassis * d_.wheels[wheel].hub_m;
-  const Eigen::Vector3d down = -chassis.linear().col(2), forward = chassis.linear().col(0);
-  const double r = d_.tyre.radius_m;
-  bool found = false;
-  penetration = 0.0;
-  for (double a : kRayAnglesRad) {
-    const Eigen::Vector3d dir = std::cos(a) * down + std::sin(a) * forward;
-    const btVector3 from = bt(hub), to = bt(Eigen::Vector3d(hub + r * dir));
-    btCollisionWorld::ClosestRayResultCallback hit(from, to);
-    hit.m_collisionFilterGroup = kTyreRayGroup;
-    hit.m_collisionFilterMask = kGroundCollisionGroup;
-    world_.rayTest(from, to, hit);
-    if (!hit.hasHit()) continue;
-    // Penetration of the disc into the plane of the face the ray met.
-    const Eigen::Vector3d n = eig(hit.m_hitNormalWorld).normalized();
-    const Eigen::Vector3d p = eig(hit.m_hitPointWorld);
-    const double distance = (hub - p).dot(n);
-    if (distance <= 0.0 || r - distance <= penetration) continue;
-    penetration = r - distance;
-    normal = n;
-    point = hub - distance * n;
-    found = true;
+namespace {
+// The deepest point where a wheel's cylinder meets firm ground.
+struct DeepestContact : btCollisionWorld::ContactResultCallback {
+  const btCollisionObject* wheel = nullptr;
+  double depth = 0.0;
+  btVector3 normal{0, 0, 1}, point{0, 0, 0};
+  btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int, int,
+                           const btCollisionObjectWrapper*, int, int) override {
+    const double d = -cp.getDistance();
+    if (d > depth) {
+      depth = d;
+      // m_normalWorldOnB points from B to A: towards the wheel when the
+      // wheel is A.
+      normal = a->getCollisionObject() == wheel ? cp.m_normalWorldOnB : -cp.m_normalWorldOnB;
+      point = a->getCollisionObject() == wheel ? cp.getPositionWorldOnB() : cp.getPositionWorldOnA();
+    }
+    return 0;
   }
-  return found;
+};
+}  // namespace
+
+bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration) const {
+  // The tyre's cylinder against firm ground (planes, boxes, the sites'
+  // bases): Bullet's contact test gives the disc's true penetration, at
+  // face, edge or corner alike.
+  const Eigen::Isometry3d chassis = link_pose(0);
+  btCollisionObject& probe = *wheel_probes_[wheel];
+  probe.setWorldTransform(btTransform(bt(Eigen::Quaterniond(chassis.linear())), bt(Eigen::Vector3d(chassis * d_.wheels[wheel].hub_m))));
+  DeepestContact hit;
+  hit.wheel = &probe;
+  hit.m_collisionFilterGroup = kTyreRayGroup;
+  hit.m_collisionFilterMask = kGroundCollisionGroup;
+  world_.contactTest(&probe, hit);
+  if (!(hit.depth > 0.0)) return false;
+  penetration = hit.depth;
+  normal = eig(hit.normal).normalized();
+  point = eig(hit.point);
+  return true;
 }
 
 void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const SoftWheelContact* soft) {

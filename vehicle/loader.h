@@ -27,6 +27,7 @@ class btMultiBodyJointMotor;
 class btMultiBodyJointLimitConstraint;
 class btMultiBodyLinkCollider;
 class btCollisionShape;
+class btCollisionObject;
 
 namespace skidsim::vehicle {
 
@@ -121,6 +122,8 @@ class Loader {
   btMultiBody* body_ = nullptr;
   std::vector<btMultiBodyLinkCollider*> colliders_;
   std::vector<btCollisionShape*> shapes_;
+  btCollisionShape* wheel_shape_ = nullptr;
+  std::vector<btCollisionObject*> wheel_probes_;
   // compTreeLinkVelocities output, sized once (no allocation per call).
   mutable btAlignedObjectArray<btVector3> omega_scratch_, velocity_scratch_;
   std::vector<btMultiBodyJointMotor*> motors_;
