@@ -49,7 +49,7 @@ void World::add_static_ground(btCollisionShape* shape, const btTransform& pose) 
   obj->setFriction(ground_friction_);
   obj->setRestitution(0.0);
   world_->addCollisionObject(obj.get(), vehicle::kGroundCollisionGroup,
-                             vehicle::kMachineCollisionGroup | vehicle::kTyreRayGroup);
+                             vehicle::kMachineCollisionGroup | vehicle::kTyreProbeGroup);
   statics_.push_back(std::move(obj));
 }
 
@@ -75,7 +75,7 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
   // the sweep's lists once so that the step does not allocate.
   const size_t cells = static_cast<size_t>(grid_->nx()) * grid_->ny();
   grid_->reserve_active_cells(std::max<size_t>(16384, cells / 8));
-  // The site's hard base is firm ground for Bullet: the tyres' rays and the
+  // The site's hard base is firm ground for Bullet: the tyres' probes and the
   // machine's boxes meet it as a rigid contact (stable at any stiffness), so
   // the terrain's own base spring is taken out of the reactions below.
   const terrain::GridSpec& spec = grid_->spec();

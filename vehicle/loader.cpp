@@ -306,7 +306,7 @@ bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& no
   probe.setWorldTransform(btTransform(bt(Eigen::Quaterniond(chassis.linear())), bt(Eigen::Vector3d(chassis * d_.wheels[wheel].hub_m))));
   DeepestContact hit;
   hit.wheel = &probe;
-  hit.m_collisionFilterGroup = kTyreRayGroup;
+  hit.m_collisionFilterGroup = kTyreProbeGroup;
   hit.m_collisionFilterMask = kGroundCollisionGroup;
   world_.contactTest(&probe, hit);
   if (!(hit.depth > 0.0)) return false;

@@ -35,10 +35,10 @@ namespace skidsim::vehicle {
 // touch the ground (firm terrain, obstacles, trucks) and nothing else.
 constexpr int kMachineCollisionGroup = 1 << 6;
 constexpr int kGroundCollisionGroup = 1 << 7;
-constexpr int kTyreRayGroup = 1 << 8;
+constexpr int kTyreProbeGroup = 1 << 8;
 
 // What the soil under one wheel does this step (the engine fills it from
-// the terrain's contact model; firm ground is found by ray tests).
+// the terrain's contact model; firm ground is found by Bullet contact tests).
 struct SoftWheelContact {
   bool active = false;  // the wheel touches soil
   // The soil's pressure on the wheel (Bekker, with its compaction
