@@ -360,6 +360,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       once(have_pump);
       d.implement_pump.flow_at_rated_m3_per_s = a.number_in("flow_l_per_min", 1.0, 2000.0) / 60000.0;
       d.implement_pump.efficiency = a.number_in("efficiency", 0.1, 1.0);
+      d.implement_pump.spool_time_s = a.number_in("spool_time_s", 0.0, 10.0);
       a.reject_unknown();
     } else if (name == "cylinder") {
       read_cylinder(d, parameters_path, e);
@@ -374,6 +375,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       dr.side_inertia_kg_m2 = a.number_in("side_inertia_kg_m2", 0.01, 1e4);
       dr.servo_gain_N_m_s = a.number_in("servo_gain_N_m_s", 1.0, 1e7);
       dr.brake_torque_N_m = a.number_in("brake_torque_N_m", 0.0, 1e6);
+      dr.pump_stroke_time_s = a.number_in("pump_stroke_time_s", 0.0, 10.0);
       a.reject_unknown();
     } else if (name == "tyre") {
       once(have_tyre);

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "tests/loader_support.h"
+#include "vehicle/loader_figures.h"
 
 namespace skidsim::testing {
 namespace {
@@ -122,6 +123,34 @@ TEST(LoaderDrive, ThrottleShutDrivesSlowlyAndHoldsOnASlope) {
     run_for(*w, c, 5.0);
     EXPECT_NEAR(w->loader().engine_speed_rpm(), d.engine.idle_rpm * (1.0 + d.engine.governor_droop * d.engine.rated_rpm / d.engine.idle_rpm), 60.0);
   }
+}
+
+// Pushing against a wall with the bucket (a Bullet rigid contact): the
+// machine stops, and its tyres push with what the drive's relief and the
+// ground's friction allow: the class's push force (S570: 2535 kgf, 24.9 kN).
+TEST(LoaderDrive, PushingAgainstAWallGivesTheClasssPushForce) {
+  engine::FirmGround ground;
+  engine::StaticBox wall;
+  wall.pose.translation() = Eigen::Vector3d(4.0, 0.0, 1.0);
+  wall.half_extents_m = Eigen::Vector3d(0.5, 3.0, 1.0);
+  ground.boxes.push_back(wall);
+  auto w = loader_on_ground(0.0, 0.0, 0.2, 0.0, ground);
+  vehicle::LoaderControls c;
+  c.drive_left = c.drive_right = 1.0;
+  run_for(*w, c, 5.0);
+  double push = 0.0;
+  for (int i = 0; i < 500; ++i) {
+    w->step(c);
+    for (const auto& ws : w->loader().wheels()) push += ws.longitudinal_force_N / 500.0;
+  }
+  RecordProperty("push_force_kN", std::to_string(push / 1e3));
+  EXPECT_LT(w->loader().chassis_velocity().norm(), 0.05);
+  const auto& d = shipped_loader();
+  const vehicle::LoaderFigures f = vehicle::loader_figures(d);
+  const double friction = d.tyre.mu_x * 9.81 * d.total_mass_kg();
+  EXPECT_NEAR(push, std::min(1e3 * f.push_force_kN, friction), 0.1 * friction);
+  for (int k = 0; k < 4; ++k) EXPECT_LT(w->loader().wheel_hub(k).x() + d.tyre.radius_m, 3.5);  // nothing through the wall
+  EXPECT_TRUE(w->events().finite);
 }
 
 TEST(LoaderDrive, SameControlsGiveTheSameStateBitForBit) {

@@ -21,6 +21,9 @@ namespace skidsim::vehicle {
 namespace {
 
 constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
+// A face steeper than 50 degrees to the chassis is no ground for a tyre:
+// it only pushes the tyre away (a wall, a step's riser).
+constexpr double kGroundFaceCos = 0.64;
 // Fastest joint speed a cylinder motor is asked for, rad/s (near a cylinder's
 // dead centre the flow would ask for more).
 constexpr double kMaxJointSpeed = 3.0;
@@ -116,6 +119,7 @@ Loader::Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& w
   // Firm-ground probes: one cylinder per wheel, never added to the world.
   wheel_shape_ = new btCylinderShape(btVector3(d_.tyre.radius_m, 0.5 * d_.tyre.width_m, d_.tyre.radius_m));
   wheel_shape_->setMargin(0.005);
+  side_contacts_.assign(d_.wheels.size(), {});
   for (size_t w = 0; w < d_.wheels.size(); ++w) {
     auto* probe = new btCollisionObject();
     probe->setCollisionShape(wheel_shape_);
@@ -237,8 +241,10 @@ void Loader::pre_step(const LoaderControls& controls, double dt_s, const SoftWhe
 }
 
 void Loader::apply_hydraulics(const LoaderControls& c, double dt_s) {
+  spool_[0] = slew(spool_[0], c.lift, d_.implement_pump.spool_time_s, dt_s);
+  spool_[1] = slew(spool_[1], c.tilt, d_.implement_pump.spool_time_s, dt_s);
   const std::array<double, 2> flows =
-      implement_flows_m3_per_s(d_.implement_pump, d_.engine, engine_speed_rad_s_, c.lift, c.tilt);
+      implement_flows_m3_per_s(d_.implement_pump, d_.engine, engine_speed_rad_s_, spool_[0], spool_[1]);
   for (size_t i = 0; i < d_.cylinders.size(); ++i) {
     const Cylinder& cyl = d_.cylinders[i];
     const int j = cyl.joint;
@@ -279,25 +285,31 @@ void Loader::apply_hydraulics(const LoaderControls& c, double dt_s) {
 namespace {
 // The deepest point where a wheel's cylinder meets firm ground.
 struct DeepestContact : btCollisionWorld::ContactResultCallback {
+  struct Point {
+    double depth = 0.0;
+    btVector3 normal{0, 0, 1}, point{0, 0, 0};
+  };
   const btCollisionObject* wheel = nullptr;
-  double depth = 0.0;
-  btVector3 normal{0, 0, 1}, point{0, 0, 0};
+  btVector3 up{0, 0, 1};
+  Point ground, side;  // faces the tyre stands on; steep ones (a wall, a step's riser)
   btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int, int,
                            const btCollisionObjectWrapper*, int, int) override {
     const double d = -cp.getDistance();
-    if (d > depth) {
-      depth = d;
-      // m_normalWorldOnB points from B to A: towards the wheel when the
-      // wheel is A.
-      normal = a->getCollisionObject() == wheel ? cp.m_normalWorldOnB : -cp.m_normalWorldOnB;
-      point = a->getCollisionObject() == wheel ? cp.getPositionWorldOnB() : cp.getPositionWorldOnA();
+    // m_normalWorldOnB points from B to A: towards the wheel when the wheel is A.
+    const bool wheel_is_a = a->getCollisionObject() == wheel;
+    const btVector3 n = wheel_is_a ? cp.m_normalWorldOnB : -cp.m_normalWorldOnB;
+    Point& p = n.dot(up) >= kGroundFaceCos ? ground : side;
+    if (d > p.depth) {
+      p.depth = d;
+      p.normal = n;
+      p.point = wheel_is_a ? cp.getPositionWorldOnB() : cp.getPositionWorldOnA();
     }
     return 0;
   }
 };
 }  // namespace
 
-bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration) const {
+bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration) {
   // The tyre's cylinder against firm ground (planes, boxes, the sites'
   // bases): Bullet's contact test gives the disc's true penetration, at
   // face, edge or corner alike.
@@ -306,13 +318,19 @@ bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& no
   probe.setWorldTransform(btTransform(bt(Eigen::Quaterniond(chassis.linear())), bt(Eigen::Vector3d(chassis * d_.wheels[wheel].hub_m))));
   DeepestContact hit;
   hit.wheel = &probe;
+  hit.up = bt(Eigen::Vector3d(chassis.linear().col(2)));
   hit.m_collisionFilterGroup = kTyreProbeGroup;
   hit.m_collisionFilterMask = kGroundCollisionGroup;
   world_.contactTest(&probe, hit);
-  if (!(hit.depth > 0.0)) return false;
-  penetration = hit.depth;
-  normal = eig(hit.normal).normalized();
-  point = eig(hit.point);
+  // A steep face only pushes the tyre away (no traction from a wall).
+  WheelSideContact& side = side_contacts_[wheel];
+  side.depth_m = hit.side.depth;
+  side.normal = eig(hit.side.normal).normalized();
+  side.point_m = eig(hit.side.point);
+  if (!(hit.ground.depth > 0.0)) return false;
+  penetration = hit.ground.depth;
+  normal = eig(hit.ground.normal).normalized();
+  point = eig(hit.ground.point);
   return true;
 }
 
@@ -407,7 +425,9 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
   std::array<double, 2> motor_torque{0.0, 0.0};
   drive_power_W_ = 0.0;
   for (int side = 0; side < 2; ++side) {
-    const double command = side == 0 ? c.drive_left : c.drive_right;
+    pump_stroke_[side] = slew(pump_stroke_[side], side == 0 ? c.drive_left : c.drive_right,
+                              d_.drive.pump_stroke_time_s, dt_s);
+    const double command = pump_stroke_[side];
     const DriveSideCommand cmd = drive_side_command(d_.drive, d_.engine, drive_radius_m_, engine_speed_rad_s_, command,
                                                     0.5 * available, side_speed_[side], c.parking_brake);
     motor_torque[side] = advance_drive_side(d_.drive, cmd, load_torque[side], dt_s, side_speed_[side]);
@@ -421,6 +441,14 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     const int side = d_.wheels[i].side;
     // The motor's reaction on the chassis, shared by the side's wheels.
     body_->addBaseTorque(bt(Eigen::Vector3d(-axle * motor_torque[side] / side_wheels[side])));
+    const WheelSideContact& wall = side_contacts_[i];
+    if (wall.depth_m > 0.0) {
+      const Eigen::Vector3d v = v_com + omega.cross(wall.point_m - com);
+      const double push = std::max(0.0, tp.radial_stiffness_N_per_m * wall.depth_m - tp.radial_damping_N_s_per_m * v.dot(wall.normal));
+      const Eigen::Vector3d f = push * wall.normal;
+      body_->addBaseForce(bt(f));
+      body_->addBaseTorque(bt(Eigen::Vector3d((wall.point_m - com).cross(f))));
+    }
     if (soft && soft[i].active) {
       const Eigen::Vector3d off_axle = soft[i].torque_Nm - soft[i].torque_Nm.dot(axle) * axle;
       body_->addBaseForce(bt(soft[i].force_N));

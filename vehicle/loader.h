@@ -115,7 +115,7 @@ class Loader {
  private:
   void apply_hydraulics(const LoaderControls& c, double dt_s);
   void apply_tyres_and_drive(const LoaderControls& c, double dt_s, const SoftWheelContact* soft);
-  bool firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration) const;
+  bool firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration);
 
   LoaderDescription d_;
   btMultiBodyDynamicsWorld& world_;
@@ -124,6 +124,11 @@ class Loader {
   std::vector<btCollisionShape*> shapes_;
   btCollisionShape* wheel_shape_ = nullptr;
   std::vector<btCollisionObject*> wheel_probes_;
+  struct WheelSideContact {
+    double depth_m = 0.0;
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitX(), point_m = Eigen::Vector3d::Zero();
+  };
+  std::vector<WheelSideContact> side_contacts_;  // this step's, from firm_contact
   // compTreeLinkVelocities output, sized once (no allocation per call).
   mutable btAlignedObjectArray<btVector3> omega_scratch_, velocity_scratch_;
   std::vector<btMultiBodyJointMotor*> motors_;
@@ -134,6 +139,8 @@ class Loader {
   std::vector<double> hold_angle_;        // latched when a spool closes
   std::vector<bool> holding_;
   std::array<double, 2> side_speed_{};    // rad/s
+  std::array<double, 2> pump_stroke_{};   // drive pumps' displacement, -1..1
+  std::array<double, 2> spool_{};         // lift and tilt spools, -1..1
   double engine_speed_rad_s_ = 0.0;
   double drive_radius_m_ = 0.0;
   double implement_power_W_ = 0.0;

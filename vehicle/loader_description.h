@@ -85,6 +85,7 @@ struct EngineParameters {
 struct ImplementPump {
   double flow_at_rated_m3_per_s = 0.0;
   double efficiency = 1.0;
+  double spool_time_s = 0.0;  // a valve spool's travel from closed to fully open
 };
 
 // Hydrostatic drive, one pump and motor per side; both wheels of a side are
@@ -98,6 +99,7 @@ struct DriveParameters {
   double side_inertia_kg_m2 = 0.0;             // both wheels, chains and motor, at the wheel
   double servo_gain_N_m_s = 0.0;               // flow servo stiffness, at the wheel
   double brake_torque_N_m = 0.0;               // per side, parking brake
+  double pump_stroke_time_s = 0.0;             // swashplate from zero to full displacement
 };
 
 // Tyre: Magic Formula (Pacejka) with combined-slip weighting, a first-order

@@ -19,6 +19,13 @@ double full_load_power_W(const EngineParameters& e, double speed_rad_s) {
   return y[i - 1] + t * (y[i] - y[i - 1]);
 }
 
+double slew(double position, double lever, double full_travel_s, double dt_s) {
+  lever = std::clamp(lever, -1.0, 1.0);
+  if (!(full_travel_s > 0.0)) return lever;
+  const double step = dt_s / full_travel_s;
+  return position + std::clamp(lever - position, -step, step);
+}
+
 double engine_torque_N_m(const EngineParameters& e, double throttle, double speed_rad_s) {
   if (speed_rad_s <= 0.0) return 0.0;
   const double idle = e.idle_rpm * kRpmToRadS, rated = e.rated_rpm * kRpmToRadS;

@@ -22,6 +22,11 @@ struct LoaderControls {
 
 double full_load_power_W(const EngineParameters& e, double speed_rad_s);
 
+// A lever's effect follows the lever no faster than its valve or pump can
+// move: `position` goes toward `lever` at 1 / full_travel_s per second (a
+// spool opening, a pump's swashplate stroking).
+double slew(double position, double lever, double full_travel_s, double dt_s);
+
 // The governor's torque at `speed` for a throttle: full-load torque until
 // the droop line, falling to zero at high idle.
 double engine_torque_N_m(const EngineParameters& e, double throttle, double speed_rad_s);
