@@ -153,6 +153,54 @@ TEST(LoaderDrive, PushingAgainstAWallGivesTheClasssPushForce) {
   EXPECT_TRUE(w->events().finite);
 }
 
+// A full-lever launch from standstill, and from a brake released with the
+// levers already forward, keeps all four wheels on the ground: the pumps
+// stroke up at their own pace.
+TEST(LoaderDrive, FullLeverLaunchKeepsTheFrontWheelsDown) {
+  const auto& d = shipped_loader();
+  for (bool from_brake : {false, true}) {
+    auto w = loader_on_ground();
+    vehicle::LoaderControls c;
+    c.drive_left = c.drive_right = 1.0;
+    if (from_brake) {
+      c.parking_brake = true;
+      run_for(*w, c, 2.0);
+      c.parking_brake = false;
+    }
+    double least_front = 1e300;
+    for (int i = 0; i < 1500; ++i) {
+      w->step(c);
+      double front = 0.0;
+      for (size_t k = 0; k < d.wheels.size(); ++k)
+        if (d.wheels[k].hub_m.x() > 0.0) front += w->loader().wheels()[k].normal_load_N;
+      least_front = std::min(least_front, front);
+    }
+    RecordProperty(std::string("least_front_load_N") + (from_brake ? "_from_brake" : ""), std::to_string(least_front));
+    EXPECT_GT(least_front, 0.05 * 9.81 * d.total_mass_kg()) << (from_brake ? "from the brake" : "from standstill");
+  }
+}
+
+// Pulled back hard while driving at full lever: the pumps take no more than
+// the engine can give (anti-stall), so the engine keeps turning near its
+// rated speed and the machine slows instead.
+TEST(LoaderDrive, HeavyPullDoesNotStallTheEngine) {
+  for (double pull_kN : {16.0, 20.0}) {
+    auto w = loader_on_ground();
+    vehicle::LoaderControls c;
+    c.drive_left = c.drive_right = 1.0;
+    run_for(*w, c, 4.0);
+    w->set_link_load(0, Eigen::Vector3d(-1e3 * pull_kN, 0, 0), Eigen::Vector3d(-1.35, 0.0, 0.0));
+    double slowest_rpm = 1e300;
+    for (int i = 0; i < 5000; ++i) {
+      w->step(c);
+      slowest_rpm = std::min(slowest_rpm, w->loader().engine_speed_rpm());
+    }
+    RecordProperty("slowest_rpm_at_" + std::to_string(static_cast<int>(pull_kN)) + "_kN", std::to_string(slowest_rpm));
+    EXPECT_GT(slowest_rpm, 0.8 * shipped_loader().engine.rated_rpm) << pull_kN << " kN";
+    EXPECT_GT(w->loader().chassis_velocity().x(), 0.2) << pull_kN << " kN";  // still going, slower
+  }
+}
+
 TEST(LoaderDrive, SameControlsGiveTheSameStateBitForBit) {
   auto run = [] {
     auto w = loader_on_ground();

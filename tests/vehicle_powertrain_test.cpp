@@ -57,6 +57,9 @@ TEST(Powertrain, DriveFollowsTheLeverUntilReliefAndTheBrakeHolds) {
   EXPECT_NEAR(weak.torque_limit_N_m, relief, 1e-6);  // holding costs no power
   w = 5.0;
   EXPECT_NEAR(advance_drive_side(d.drive, weak, 2.0 * relief, 0.002, w), weak.motoring_torque_limit_N_m, 1e-9);
+  // Below relief but above the power: the power still bounds it.
+  w = 5.0;
+  EXPECT_NEAR(advance_drive_side(d.drive, weak, 0.5 * relief, 0.002, w), weak.motoring_torque_limit_N_m, 1e-9);
   w = -1.0;  // pushed backwards against a forward lever: braking, up to relief
   EXPECT_NEAR(advance_drive_side(d.drive, weak, 2.0 * relief, 0.002, w), relief, 1e-9);
   // Parking brake: locked below its torque, slips above it.

@@ -3,6 +3,8 @@
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btCylinderShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleShape.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
@@ -24,6 +26,9 @@ constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
 // A face steeper than 50 degrees to the chassis is no ground for a tyre:
 // it only pushes the tyre away (a wall, a step's riser).
 constexpr double kGroundFaceCos = 0.64;
+// A triangle's contact whose normal is more than 18 deg off the triangle's
+// own is an artefact of its edge.
+constexpr double kTriangleNormalCos = 0.95;
 // Fastest joint speed a cylinder motor is asked for, rad/s (near a cylinder's
 // dead centre the flow would ask for more).
 constexpr double kMaxJointSpeed = 3.0;
@@ -293,11 +298,25 @@ struct DeepestContact : btCollisionWorld::ContactResultCallback {
   btVector3 up{0, 0, 1};
   Point ground, side;  // faces the tyre stands on; steep ones (a wall, a step's riser)
   btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int, int,
-                           const btCollisionObjectWrapper*, int, int) override {
+                           const btCollisionObjectWrapper* b, int, int) override {
     const double d = -cp.getDistance();
     // m_normalWorldOnB points from B to A: towards the wheel when the wheel is A.
     const bool wheel_is_a = a->getCollisionObject() == wheel;
     const btVector3 n = wheel_is_a ? cp.m_normalWorldOnB : -cp.m_normalWorldOnB;
+    // A heightfield is met triangle by triangle: a triangle ending just past
+    // the tyre's side reports a sideways normal (Bullet separates the pair
+    // the shortest way) although the ground there is flat. Such contacts,
+    // far from the triangle's own normal, are artefacts of its edges.
+    const btCollisionObjectWrapper* ground_side = wheel_is_a ? b : a;
+    if (ground_side->getCollisionShape()->getShapeType() == TRIANGLE_SHAPE_PROXYTYPE) {
+      const auto* t = static_cast<const btTriangleShape*>(ground_side->getCollisionShape());
+      btVector3 face = ground_side->getWorldTransform().getBasis() *
+                       (t->m_vertices1[1] - t->m_vertices1[0]).cross(t->m_vertices1[2] - t->m_vertices1[0]);
+      if (face.length2() > 0.0) {
+        face.normalize();
+        if (std::abs(face.dot(n)) < kTriangleNormalCos) return 0;
+      }
+    }
     Point& p = n.dot(up) >= kGroundFaceCos ? ground : side;
     if (d > p.depth) {
       p.depth = d;
@@ -330,7 +349,11 @@ bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& no
   if (!(hit.ground.depth > 0.0)) return false;
   penetration = hit.ground.depth;
   normal = eig(hit.ground.normal).normalized();
+  // Bullet puts the contact at one end of the cylinder, the end chosen by
+  // the sign of a tiny roll: the load acts on the tyre's mid-plane.
+  const Eigen::Vector3d hub = chassis * d_.wheels[wheel].hub_m, axle = chassis.linear().col(1);
   point = eig(hit.ground.point);
+  point -= axle * (point - hub).dot(axle);
   return true;
 }
 
@@ -420,18 +443,22 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
   // The most the engine can give at its present speed, less what the
   // implement takes (the pumps' anti-stall control reads the engine speed;
   // the governor then meets the load, lugging down if it must).
-  const double engine_power = full_load_power_W(d_.engine, engine_speed_rad_s_);
+  const double engine_power = full_load_power_W(d_.engine, engine_speed_rad_s_) -
+                              d_.engine.friction_torque_N_m * engine_speed_rad_s_;
   const double available = std::max(0.0, engine_power - implement_power_W_ / d_.implement_pump.efficiency);
   std::array<double, 2> motor_torque{0.0, 0.0};
   drive_power_W_ = 0.0;
   for (int side = 0; side < 2; ++side) {
-    pump_stroke_[side] = slew(pump_stroke_[side], side == 0 ? c.drive_left : c.drive_right,
-                              d_.drive.pump_stroke_time_s, dt_s);
+    // Braked, the pumps go back to neutral: releasing the brake with a lever
+    // forward starts from zero flow.
+    const double lever = c.parking_brake ? 0.0 : (side == 0 ? c.drive_left : c.drive_right);
+    pump_stroke_[side] = slew(pump_stroke_[side], lever, d_.drive.pump_stroke_time_s, dt_s);
     const double command = pump_stroke_[side];
     const DriveSideCommand cmd = drive_side_command(d_.drive, d_.engine, drive_radius_m_, engine_speed_rad_s_, command,
                                                     0.5 * available, side_speed_[side], c.parking_brake);
     motor_torque[side] = advance_drive_side(d_.drive, cmd, load_torque[side], dt_s, side_speed_[side]);
-    if (!cmd.brake) drive_power_W_ += std::abs(motor_torque[side] * side_speed_[side]) / d_.drive.efficiency;
+    // Only driving takes power from the engine; holding and braking do not.
+    if (!cmd.brake) drive_power_W_ += std::max(0.0, motor_torque[side] * side_speed_[side]) / d_.drive.efficiency;
   }
 
   // Pass 2: forces on the chassis; deflections advance with the new wheel speeds.

@@ -92,10 +92,8 @@ double advance_drive_side(const DriveParameters& d, const DriveSideCommand& c, d
   // Implicit servo: J (w1 - w0) = dt (K (target - w1) - load).
   const double w1 = (J * wheel_speed_rad_s + dt_s * (K * c.target_speed_rad_s - load_torque_N_m)) / (J + dt_s * K);
   double torque = K * (c.target_speed_rad_s - w1);
-  if (std::abs(torque) <= c.torque_limit_N_m) {
-    wheel_speed_rad_s = w1;
-    return torque;
-  }
+  // Driving the wheel (torque along its turning) is bounded by the engine's
+  // power too; holding and braking by relief only.
   const bool motoring = torque * wheel_speed_rad_s > 0.0;
   const double limit = motoring ? c.motoring_torque_limit_N_m : c.torque_limit_N_m;
   if (std::abs(torque) <= limit) {
