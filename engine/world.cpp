@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace skidsim::engine {
 namespace {
@@ -69,6 +70,9 @@ void World::set_link_load(int link, const Eigen::Vector3d& force_N, const Eigen:
 }
 
 void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil) {
+  if (grid_) throw std::logic_error("World::add_soil_site: this world already has its soil site");
+  if (!grid || grid->nx() < 2 || grid->ny() < 2)
+    throw std::invalid_argument("World::add_soil_site: a soil site needs at least 2 x 2 cells");
   grid_ = std::move(grid);
   soil_ = std::make_unique<terrain::SoilContactModel>(*grid_, soil);
   // A machine working a site keeps up to a few thousand cells moving: size

@@ -60,7 +60,8 @@ class World {
   // boxes (chassis belly, bucket) whose footprint meets the grid get the
   // soil's reaction; the terrain sweeps once per step. The grid's hard base
   // becomes rigid ground (a Bullet heightfield) under the site. The base is
-  // read once, here.
+  // read once, here. One site per world (throws on a second, or on a grid
+  // under 2 x 2 cells).
   void add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil);
   terrain::GranularGrid* terrain() { return grid_.get(); }
   terrain::SoilContactModel* soil_contact() { return soil_.get(); }

@@ -435,6 +435,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
   need(have_drive, "drive");
   need(have_tyre, "tyre");
   need(have_bucket, "bucket");
+  if (d.wheels.empty()) fail_at(parameters_path, root, "the URDF has no wheels (continuous joints on the chassis)");
   {
     // The tyres must carry the machine: static deflection under a quarter of
     // the radius (the drive's rolling radius would turn negative, and the

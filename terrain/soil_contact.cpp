@@ -60,6 +60,9 @@ void SoilContactModel::reserve_body(int body_id, double diagonal_m) {
       static_cast<std::size_t>(std::min(reach * reach, static_cast<double>(grid_.nx()) * grid_.ny()));
   state.covered.reserve(cells);
   state.covered_next.reserve(cells);
+  state.map.cells.reserve(cells);
+  state.next.cells.reserve(cells);
+  slots_.reserve(std::max(slots_.capacity(), cells));
 }
 
 void SoilContactModel::release(int body_id) {

@@ -222,10 +222,12 @@ TEST(LoaderSoftSoil, BucketPressedOntoTheSitesHardBaseIsLikeFirmGround) {
   auto run = [](bool site, double layer_m, double start_lift) {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.translation().z() = shipped_loader().tyre.radius_m - 0.01 + layer_m;
-    engine::World w(shipped_loader(), engine::FirmGround{}, pose, start_lift, start_lift);
+    engine::FirmGround ground;
+    ground.has_plane = !site;  // on the site, its base is the only ground
+    engine::World w(shipped_loader(), ground, pose, start_lift, start_lift);
     if (site) {
       const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
-      w.add_soil_site(engine::flat_soil_grid(sand.flow, 20.0, {-4.0, -2.0}, 8.0, 4.0, layer_m), sand.terramechanics);
+      w.add_soil_site(engine::flat_soil_grid(sand.flow, 20.0, {-6.0, -4.0}, 12.0, 8.0, layer_m), sand.terramechanics);
     }
     vehicle::LoaderControls c;
     c.parking_brake = true;
@@ -243,8 +245,11 @@ TEST(LoaderSoftSoil, BucketPressedOntoTheSitesHardBaseIsLikeFirmGround) {
     const Motion firm = run(false, 0.0, start_lift);
     for (double layer_m : {0.0, 0.02}) {
       const Motion soil = run(true, layer_m, start_lift);
-      EXPECT_LT(soil.fastest, firm.fastest + 0.3) << layer_m << " m of sand, lift " << start_lift;
-      EXPECT_LT(soil.highest, firm.highest + layer_m + 0.05) << layer_m << " m of sand, lift " << start_lift;
+      // (Starting with the bucket 15 mm into the ground, the heightfield and
+      // the plane push it out a little differently; the fault this guards
+      // against threw the machine at 24 m/s.)
+      EXPECT_LT(soil.fastest, firm.fastest + 0.5) << layer_m << " m of sand, lift " << start_lift;
+      EXPECT_LT(soil.highest, firm.highest + layer_m + 0.1) << layer_m << " m of sand, lift " << start_lift;
     }
   }
 }
@@ -295,6 +300,33 @@ TEST(LoaderSoftSoil, TyreForcesChangeContinuouslyFromFirmGroundToSand) {
   // does), and what is left is the soil's own cell-by-cell grain.
   EXPECT_LT(largest_jump, 0.1 * 9.81 * d.total_mass_kg() / d.wheels.size());
   EXPECT_TRUE(w->events().finite);
+}
+
+// Parked on a soil site's bare hard base (a heightfield, no plane): it stands
+// as on a plane. (Bullet meets a heightfield triangle by triangle; contacts
+// with the edge of a triangle ending beside the tyre pointed sideways and
+// pushed the machine across.)
+TEST(LoaderSoftSoil, ParkedOnABareSiteBaseStandsStill) {
+  for (double y : {0.0, 0.013, 0.031}) {  // different alignments of the wheels with the grid
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(0.0, y, shipped_loader().tyre.radius_m - 0.01);
+    engine::FirmGround ground;
+    ground.has_plane = false;
+    engine::World w(shipped_loader(), ground, pose, 0.2, 0.0);
+    const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
+    w.add_soil_site(engine::flat_soil_grid(sand.flow, 20.0, {-4.0, -3.0}, 8.0, 6.0, 0.0), sand.terramechanics);
+    vehicle::LoaderControls c;
+    c.parking_brake = true;
+    run_for(w, c, 1.0);
+    const Eigen::Vector3d before = w.loader().link_pose(0).translation();
+    double largest_lateral = 0.0;
+    for (int i = 0; i < 2500; ++i) {
+      w.step(c);
+      for (const auto& ws : w.loader().wheels()) largest_lateral = std::max(largest_lateral, std::abs(ws.lateral_force_N));
+    }
+    EXPECT_LT((w.loader().link_pose(0).translation() - before).norm(), 1e-3) << "offset " << y;
+    EXPECT_LT(largest_lateral, 300.0) << "offset " << y;
+  }
 }
 
 // The same controls on sand give the same machine and terrain, bit for bit.
