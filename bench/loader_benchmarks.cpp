@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "engine/demo_controls.h"
 #include "engine/soil_site.h"
 #include "engine/world.h"
 #include "io/loader_files.h"
@@ -19,16 +20,6 @@ const vehicle::LoaderDescription& shipped_loader() {
   return d;
 }
 
-// Controls that keep the machine busy and on its site: a wide circle with
-// the arm and bucket cycling.
-vehicle::LoaderControls busy_controls(long step) {
-  vehicle::LoaderControls c;
-  c.drive_left = 0.8;
-  c.drive_right = 0.4;
-  c.lift = (step / 1500) % 2 == 0 ? 0.6 : -0.6;
-  c.tilt = (step / 700) % 2 == 0 ? 0.5 : -0.5;
-  return c;
-}
 
 // Machine step on firm ground: multibody, tyres (ray tests), hydraulics and
 // drive. One iteration is one 2 ms step.
@@ -38,8 +29,8 @@ void BM_MachineStepFirm(benchmark::State& state) {
   pose.translation().z() = shipped_loader().tyre.radius_m - 0.01;
   engine::World world(shipped_loader(), ground, pose, 0.3, 0.0);
   long step = 0;
-  for (int i = 0; i < 500; ++i) world.step(busy_controls(step++));
-  for (auto _ : state) world.step(busy_controls(step++));
+  for (int i = 0; i < 500; ++i) world.step(engine::circle_work_cycle(step++));
+  for (auto _ : state) world.step(engine::circle_work_cycle(step++));
   state.counters["sim_s_per_s"] = benchmark::Counter(engine::kStepSeconds, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_MachineStepFirm)->Unit(benchmark::kMicrosecond);
@@ -57,8 +48,8 @@ void BM_MachineOnSand(benchmark::State& state) {
   engine::World world(shipped_loader(), engine::FirmGround{}, pose, 0.3, 0.0);
   world.add_soil_site(std::move(grid), sand.terramechanics);
   long step = 0;
-  for (int i = 0; i < 500; ++i) world.step(busy_controls(step++));
-  for (auto _ : state) world.step(busy_controls(step++));
+  for (int i = 0; i < 500; ++i) world.step(engine::circle_work_cycle(step++));
+  for (auto _ : state) world.step(engine::circle_work_cycle(step++));
   state.counters["sim_s_per_s"] = benchmark::Counter(engine::kStepSeconds, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["active_cells"] = static_cast<double>(world.terrain()->active_cell_count());
 }

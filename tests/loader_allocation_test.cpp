@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "engine/demo_controls.h"
 #include "engine/soil_site.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
@@ -47,18 +48,10 @@ struct BulletHooks {
   }
 } hooks;
 
-vehicle::LoaderControls busy(long step) {
-  vehicle::LoaderControls c;
-  c.drive_left = 0.8;
-  c.drive_right = 0.4;
-  c.lift = (step / 1500) % 2 == 0 ? 0.6 : -0.6;
-  c.tilt = (step / 700) % 2 == 0 ? 0.5 : -0.5;
-  return c;
-}
 
 long allocations_in_steps(engine::World& w, long& step, int n) {
   const long before = g_allocations.load();
-  for (int i = 0; i < n; ++i) w.step(busy(step++));
+  for (int i = 0; i < n; ++i) w.step(engine::circle_work_cycle(step++));
   return g_allocations.load() - before;
 }
 
@@ -84,7 +77,7 @@ TEST(LoaderAllocation, SandStepAllocatesNothingOnceWarm) {
   // not a step. The soil's scratch grows with the largest contact so far.)
   long step = 0;
   const auto controls = [](long s) {
-    vehicle::LoaderControls c = busy(s);
+    vehicle::LoaderControls c = engine::circle_work_cycle(s);
     c.lift = 0.0;
     return c;
   };
