@@ -20,9 +20,8 @@ const vehicle::LoaderDescription& shipped_loader() {
   return d;
 }
 
-
-// Machine step on firm ground: multibody, tyres (ray tests), hydraulics and
-// drive. One iteration is one 2 ms step.
+// Machine step on firm ground: multibody, tyres (a contact test each),
+// hydraulics and drive. One iteration is one 2 ms step.
 void BM_MachineStepFirm(benchmark::State& state) {
   engine::FirmGround ground;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
