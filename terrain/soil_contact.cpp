@@ -433,7 +433,8 @@ void SoilContactModel::embed(int body_id, const BodyGeometry& body, const BodyMo
   state.in_contact = !state.map.cells.empty();
 }
 
-BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, const BodyMotion& motion) {
+BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, const BodyMotion& motion,
+                                        bool wedge_bounds) {
   BodyState& state = body_state(body_id);
   if (state.covered.capacity() == 0) reserve_body(body_id, body.world_bounds().diagonal().norm());
   mapper_.build(grid_, body, motion, &state.next);
@@ -522,7 +523,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
   // when the body uncovers part of it.
   for (CellContact& c : state.next.cells)
     if (c.covered_fraction >= kFullyCovered) c.covered_level_m = grid_.surface_at(static_cast<int>(c.cell));
-  wedge_reactions(now, out);
+  if (wedge_bounds) wedge_reactions(now, out);
 
   out.shear_point_m =
       out.shear_bound_N > 0.0 ? Eigen::Vector3d(out.shear_point_m / out.shear_bound_N) : motion.reference_point_m;

@@ -101,7 +101,10 @@ class SoilContactModel {
   // reaction. `body_id` in [0, 65535] names the body across steps (its
   // previous map tells how far its interfaces advanced). Allocates only
   // while a body's contact grows beyond its largest size so far.
-  BodyReaction interact(int body_id, const BodyGeometry& body, const BodyMotion& motion);
+  // `wedge_bounds` false skips the wedge limits (BodyReaction::wedge) for a
+  // caller that does not apply them (the soil is still pushed into the
+  // wedge in front of an advancing interface).
+  BodyReaction interact(int body_id, const BodyGeometry& body, const BodyMotion& motion, bool wedge_bounds = true);
   // Places a body in the soil as if it had got there by itself: the soil
   // under its covered parts is taken to be at its underside, so nothing is
   // pressed or pushed by the placement (a blade started in its slot, a
