@@ -73,7 +73,7 @@ TEST(LoaderAllocation, SandStepAllocatesNothingOnceWarm) {
   w.add_soil_site(std::move(grid), sand.terramechanics);
   // Driving a circle with the bucket curling and dumping above the sand.
   // (Bullet allocates when a new collision pair starts, e.g. the bucket
-  // coming within half a metre of the site's base or an obstacle: an event,
+  // coming within 5 cm of the site's base, or near an obstacle: an event,
   // not a step. The soil's scratch grows with the largest contact so far.)
   long step = 0;
   const auto controls = [](long s) {
