@@ -118,15 +118,20 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
     soil_->reserve_body(static_cast<int>(d.wheels.size() + k), 2.0 * link_boxes_[k].box.half_extents_m.norm());
 }
 
-double World::highest_soil_under(const Eigen::AlignedBox3d& box) const {
+Eigen::Vector2i World::cell_under(double x_m, double y_m) const {
+  // Clamped in double to one cell beyond the grid either side: a point far
+  // off it must not overflow an int, and callers can still tell it is off.
   const terrain::GridSpec& spec = grid_->spec();
   const auto index = [&](double coordinate, double origin, int n) {
     return static_cast<int>(std::clamp(std::floor((coordinate - origin) / spec.cell_size_m + 0.5), -1.0, static_cast<double>(n)));
   };
-  const int i0 = std::max(0, index(box.min().x(), spec.origin_m.x(), spec.nx));
-  const int i1 = std::min(spec.nx - 1, index(box.max().x(), spec.origin_m.x(), spec.nx));
-  const int j0 = std::max(0, index(box.min().y(), spec.origin_m.y(), spec.ny));
-  const int j1 = std::min(spec.ny - 1, index(box.max().y(), spec.origin_m.y(), spec.ny));
+  return {index(x_m, spec.origin_m.x(), spec.nx), index(y_m, spec.origin_m.y(), spec.ny)};
+}
+
+double World::highest_soil_under(const Eigen::AlignedBox3d& box) const {
+  const Eigen::Vector2i lo = cell_under(box.min().x(), box.min().y()), hi = cell_under(box.max().x(), box.max().y());
+  const int i0 = std::max(0, lo.x()), i1 = std::min(grid_->nx() - 1, hi.x());
+  const int j0 = std::max(0, lo.y()), j1 = std::min(grid_->ny() - 1, hi.y());
   double highest = -std::numeric_limits<double>::infinity();
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i) highest = std::max(highest, grid_->surface_m(i, j));
@@ -158,7 +163,6 @@ void World::soil_on_machine() {
   const vehicle::LoaderDescription& d = loader_->description();
   const Eigen::Isometry3d chassis = loader_->link_pose(0);
   const Eigen::Quaterniond rotation(chassis.linear());
-  const terrain::GridSpec& spec = grid_->spec();
   Eigen::Vector3d v_com, omega;
   loader_->link_velocity(0, v_com, omega);
   const Eigen::Vector3d com = loader_->link_centre_of_mass(0);
@@ -184,8 +188,8 @@ void World::soil_on_machine() {
     s.torque_Nm = r.torque_Nm - r.base_torque_Nm;
     s.contact_area_m2 = r.contact_area_m2;
     s.contact_point_m = r.shear_point_m;
-    const int ci = std::clamp(static_cast<int>(std::lround((shape.centre_m.x() - spec.origin_m.x()) / spec.cell_size_m)), 0, spec.nx - 1);
-    const int cj = std::clamp(static_cast<int>(std::lround((shape.centre_m.y() - spec.origin_m.y()) / spec.cell_size_m)), 0, spec.ny - 1);
+    const Eigen::Vector2i hub = cell_under(shape.centre_m.x(), shape.centre_m.y());
+    const int ci = std::clamp(hub.x(), 0, grid_->nx() - 1), cj = std::clamp(hub.y(), 0, grid_->ny() - 1);
     const terrain::SoilMechanics& soil = soil_->soil_at_cell(grid_->index(ci, cj));
     s.shear.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
     s.shear.friction_angle_rad = soil.friction_angle_deg * 3.14159265358979323846 / 180.0;

@@ -84,6 +84,8 @@ class World {
   // One body against the soil: its reaction, or a release when it left the grid.
   terrain::BodyReaction soil_on_body(int body_id, const terrain::BodyGeometry& shape, const terrain::BodyMotion& motion,
                                      double highest_soil_m);
+  // The grid cell under a world point: -1 or n beyond the grid's sides.
+  Eigen::Vector2i cell_under(double x_m, double y_m) const;
   // The highest soil surface under a world box (-inf off the grid).
   double highest_soil_under(const Eigen::AlignedBox3d& box) const;
 

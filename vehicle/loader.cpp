@@ -195,8 +195,6 @@ Eigen::Vector3d Loader::centre_of_mass() const {
   return sum / mass;
 }
 
-Eigen::Vector3d Loader::centre_of_chassis_mass() const { return eig(body_->getBasePos()); }
-
 Eigen::Vector3d Loader::wheel_hub(int wheel) const { return link_pose(0) * d_.wheels[wheel].hub_m; }
 
 void Loader::add_wrench(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& torque_Nm,
@@ -328,11 +326,11 @@ struct DeepestContact : btCollisionWorld::ContactResultCallback {
 };
 }  // namespace
 
-bool Loader::firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration) {
+bool Loader::firm_contact(int wheel, const Eigen::Isometry3d& chassis, Eigen::Vector3d& point, Eigen::Vector3d& normal,
+                          double& penetration) {
   // The tyre's cylinder against firm ground (planes, boxes, the sites'
   // bases): Bullet's contact test gives the disc's true penetration, at
   // face, edge or corner alike.
-  const Eigen::Isometry3d chassis = link_pose(0);
   btCollisionObject& probe = *wheel_probes_[wheel];
   probe.setWorldTransform(btTransform(bt(Eigen::Quaterniond(chassis.linear())), bt(Eigen::Vector3d(chassis * d_.wheels[wheel].hub_m))));
   DeepestContact hit;
@@ -382,7 +380,7 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     p.hub = chassis * d_.wheels[i].hub_m;
     double penetration = 0.0;
     Eigen::Vector3d point, normal;
-    const bool firm = firm_contact(static_cast<int>(i), point, normal, penetration);
+    const bool firm = firm_contact(static_cast<int>(i), chassis, point, normal, penetration);
     const SoftWheelContact* s = soft && soft[i].active ? &soft[i] : nullptr;
     const double soil_load = s ? std::max(0.0, s->force_N.z()) : 0.0;
     ws.on_ground = firm || soil_load > 0.0;

@@ -102,7 +102,6 @@ class Loader {
   Eigen::Vector3d chassis_velocity() const;             // of the chassis COM, world
   Eigen::Vector3d chassis_angular_velocity() const;     // world
   Eigen::Vector3d centre_of_mass() const;               // whole machine, world
-  Eigen::Vector3d centre_of_chassis_mass() const;       // the chassis link's, world
   double joint_angle(int joint) const;
   double joint_speed(int joint) const;
   Eigen::Vector3d wheel_hub(int wheel) const;
@@ -115,7 +114,8 @@ class Loader {
  private:
   void apply_hydraulics(const LoaderControls& c, double dt_s);
   void apply_tyres_and_drive(const LoaderControls& c, double dt_s, const SoftWheelContact* soft);
-  bool firm_contact(int wheel, Eigen::Vector3d& point, Eigen::Vector3d& normal, double& penetration);
+  bool firm_contact(int wheel, const Eigen::Isometry3d& chassis, Eigen::Vector3d& point, Eigen::Vector3d& normal,
+                    double& penetration);
 
   LoaderDescription d_;
   btMultiBodyDynamicsWorld& world_;
