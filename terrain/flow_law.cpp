@@ -42,7 +42,7 @@ void validate(const SoilFlowParameters& soil) {
 }
 
 FlowLaw derive_flow_law(const SoilFlowParameters& soil, double cell_size_m,
-                        double step_dt_s, int max_substeps) {
+                        double step_dt_s, int max_substeps, double bound_fraction) {
   validate(soil);
   if (!(cell_size_m > 0.0) || !std::isfinite(cell_size_m))
     throw std::invalid_argument("cell_size_m must be > 0");
@@ -53,12 +53,13 @@ FlowLaw derive_flow_law(const SoilFlowParameters& soil, double cell_size_m,
   const double z_plus_step = step_dt_s * soil.rolling_speed_m_per_s * soil.rolling_layer_m / cell_size_m;
   const double ratio = z_plus_step / cell_size_m;  // = dt v h_r / d^2
   // In double: a huge ratio must not wrap around an int.
-  const double needed = std::max(1.0, std::ceil(ratio / kMaxZPlusOverCell - 1e-12));
+  const double bound = kMaxZPlusOverCell * bound_fraction;
+  const double needed = std::max(1.0, std::ceil(ratio / bound - 1e-12));
   if (!(needed <= max_substeps)) {
     std::ostringstream msg;
     msg << "soil '" << soil.name << "': the avalanche sweep is unstable at cell size "
         << cell_size_m << " m: dt*v*h_r/d^2 = " << ratio << " exceeds the bound "
-        << kMaxZPlusOverCell << " and would need " << needed
+        << bound << " and would need " << needed
         << " sub-steps per step (limit " << max_substeps
         << "). Use larger cells, a smaller rolling_speed_m_per_s or rolling_layer_m, or"
         << " allow more sub-steps.";

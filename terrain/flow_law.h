@@ -69,7 +69,9 @@ inline constexpr double kMaxZPlusOverCell = 0.25;
 // sub-stepping as the bound asks. Throws std::invalid_argument with a message
 // that gives the bound, the sub-steps needed and how to fix the parameters
 // when more than `max_substeps` would be needed.
+// `bound_fraction` in (0, 1] keeps a margin below the bound (see
+// GridSpec::flow_bound_fraction).
 FlowLaw derive_flow_law(const SoilFlowParameters& soil, double cell_size_m,
-                        double step_dt_s, int max_substeps);
+                        double step_dt_s, int max_substeps, double bound_fraction = 1.0);
 
 }  // namespace skidsim::terrain

@@ -1,5 +1,7 @@
 #include "terrain/granular_grid.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -65,7 +67,9 @@ GranularGrid::GranularGrid(const GridSpec& spec, const SoilFlowParameters& soil,
   }
   if (static_cast<std::int64_t>(spec.nx) * spec.ny > std::numeric_limits<std::int32_t>::max())
     throw std::invalid_argument("grid has more than 2^31 cells");
-  law_ = derive_flow_law(soil, spec.cell_size_m, step_dt_s, max_substeps);
+  if (!(spec.flow_bound_fraction > 0.0 && spec.flow_bound_fraction <= 1.0))
+    throw std::invalid_argument("grid flow_bound_fraction must be in (0, 1]");
+  law_ = derive_flow_law(soil, spec.cell_size_m, step_dt_s, max_substeps, spec.flow_bound_fraction);
   const std::size_t n = static_cast<std::size_t>(spec.nx) * spec.ny;
   quanta_.assign(n, 0);
   base_m_.assign(n, 0.0f);
@@ -257,6 +261,7 @@ GranularGrid::FaceGeometry GranularGrid::face_geometry(std::uint32_t cell) const
   if (!(f & kOnAnyEdge)) {
     FaceGeometry g = face_geometry_from(h[cell], h[cell + 1], h[cell - 1], h[cell + nx], h[cell - nx],
                                         h[cell + 1 + nx], h[cell - 1 + nx], h[cell + 1 - nx], h[cell - 1 - nx]);
+    if (tilted_) tilt_faces(g);
     block_covered_faces(cell, g);
     return g;
   }
@@ -275,10 +280,135 @@ GranularGrid::FaceGeometry GranularGrid::face_geometry(std::uint32_t cell) const
   // Beyond an open edge the imaginary neighbour sits at this cell's base
   // (material falls off); a closed edge is a wall (no drop).
   for (int d = 0; d < 4; ++d)
-    if (f & kOnEdgeBit[d])
-      g.drop[d] = spec_.edges[kEdgeOfDirection[d]] == EdgeKind::kOpen ? here - base_m_[cell] : 0.0;
+    if (f & kOnEdgeBit[d]) g.drop[d] = here - base_m_[cell];
+  if (tilted_) tilt_faces(g);
+  for (int d = 0; d < 4; ++d)
+    if ((f & kOnEdgeBit[d]) && spec_.edges[kEdgeOfDirection[d]] != EdgeKind::kOpen) g.drop[d] = 0.0;
   block_covered_faces(cell, g);
   return g;
+}
+
+void GranularGrid::tilt_faces(FaceGeometry& g) const {
+  // (6.2): the slope between two surface points is that of the vector
+  // between them in the world. Face k goes +-d along one grid axis with the
+  // height change -drop along z'; its world rise is its dot product with
+  // world up (expressed in the grid frame), its run what is left of its
+  // length. The slope magnitude is that of the surface's plane through this
+  // vector and the tangential one (their cross product is its normal), so
+  // a compound tilt gives the exact steepest world slope.
+  const double d = spec_.cell_size_m;
+  const double floor_run2 = 1e-12 * d * d;  // a vertical vector: a huge slope, not a division by zero
+  for (int k = 0; k < 4; ++k) {
+    const double sign = (k % 2 == 0) ? 1.0 : -1.0;
+    const bool along_x = k < 2;
+    const Eigen::Vector3d face(along_x ? sign * d : 0.0, along_x ? 0.0 : sign * d, -g.drop[k]);
+    const Eigen::Vector3d across(along_x ? 0.0 : d, along_x ? d : 0.0, g.tangential[k]);
+    const double rise = face.dot(up_);
+    const double run = std::sqrt(std::max(face.squaredNorm() - rise * rise, floor_run2));
+    const double slope_along = -rise / run;
+    const Eigen::Vector3d normal = face.cross(across);
+    const double normal_up = normal.dot(up_);
+    const double tan2 = (normal.squaredNorm() - normal_up * normal_up) / std::max(normal_up * normal_up, 1e-12 * normal.squaredNorm());
+    g.drop[k] = slope_along * d;
+    g.tangential[k] = std::sqrt(std::max(0.0, tan2 - slope_along * slope_along)) * d;
+  }
+}
+
+void GranularGrid::set_world_up(const Eigen::Vector3d& up_in_grid) {
+  const double n = up_in_grid.norm();
+  if (!(n > 0.0) || !up_in_grid.allFinite()) throw std::invalid_argument("set_world_up: the up vector must be finite and non-zero");
+  up_ = up_in_grid / n;
+  tilted_ = !(up_.x() == 0.0 && up_.y() == 0.0 && up_.z() == 1.0);
+  // Cells at rest stay at rest under a tiny change of tilt; a larger one can
+  // tip them past the threshold, so they are examined again.
+  if (up_.dot(up_woken_) < std::cos(1e-3)) {
+    up_woken_ = up_;
+    wake_material_cells();
+  }
+}
+
+void GranularGrid::set_flow_angles_deg(double repose_deg, double stop_deg) {
+  if (!(stop_deg > 0.0 && stop_deg <= repose_deg && repose_deg < 89.0)) {
+    std::ostringstream msg;
+    msg << "flow angles repose " << repose_deg << " deg, stop " << stop_deg
+        << " deg: expected 0 < stop <= repose < 89";
+    throw std::invalid_argument(msg.str());
+  }
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  const double tan_repose = std::tan(repose_deg * kDeg), tan_stop = std::tan(stop_deg * kDeg);
+  if (tan_repose == law_.tan_repose && tan_stop == law_.tan_stop) return;
+  const bool lowered = tan_repose < law_.tan_repose || tan_stop < law_.tan_stop;
+  law_.tan_repose = tan_repose;
+  law_.tan_stop = tan_stop;
+  if (lowered) wake_material_cells();
+}
+
+void GranularGrid::wake_material_cells() {
+  for (std::uint32_t c = 0; c < quanta_.size(); ++c)
+    if (quanta_[c] > 0) wake(static_cast<int>(c));
+}
+
+std::int64_t GranularGrid::export_quanta(int cell, std::int64_t quanta) {
+  const std::int64_t q = std::max<std::int64_t>(0, std::min(quanta, quanta_[cell]));
+  if (q == 0) return 0;
+  quanta_[cell] -= q;
+  ledger_.exported += q;
+  refresh_surface(cell);
+  wake(cell);
+  return q;
+}
+
+void GranularGrid::import_quanta(int cell, std::int64_t quanta) {
+  if (quanta <= 0) return;
+  quanta_[cell] += quanta;
+  ledger_.imported += quanta;
+  flags_[cell] |= kFlowing;  // it arrives moving (4.5)
+  refresh_surface(cell);
+  wake(cell);
+}
+
+void GranularGrid::capture_edge_outflow(bool on) {
+  capture_edges_ = on;
+  if (on && edge_outflow_.empty()) edge_outflow_.assign(static_cast<std::size_t>(edge_slot_count()), 0);
+}
+
+int GranularGrid::edge_slot(int i, int j, int direction) const {
+  switch (direction) {
+    case 0: return j;
+    case 1: return spec_.ny + j;
+    case 2: return 2 * spec_.ny + i;
+    default: return 2 * spec_.ny + spec_.nx + i;
+  }
+}
+
+void GranularGrid::edge_slot_cell(int slot, int* i, int* j, int* direction) const {
+  const int nx = spec_.nx, ny = spec_.ny;
+  if (slot < ny) {
+    *i = nx - 1, *j = slot, *direction = 0;
+  } else if (slot < 2 * ny) {
+    *i = 0, *j = slot - ny, *direction = 1;
+  } else if (slot < 2 * ny + nx) {
+    *i = slot - 2 * ny, *j = ny - 1, *direction = 2;
+  } else {
+    *i = slot - 2 * ny - nx, *j = 0, *direction = 3;
+  }
+}
+
+std::int64_t GranularGrid::pending_edge_outflow() const {
+  std::int64_t total = 0;
+  for (std::int64_t q : edge_outflow_) total += q;
+  return total;
+}
+
+void GranularGrid::send_over_edge(std::uint32_t cell, int direction, std::int64_t quanta) {
+  if (!capture_edges_) {
+    ledger_.off_site[kEdgeOfDirection[direction]] += quanta;
+    return;
+  }
+  const int i = static_cast<int>(cell % static_cast<std::uint32_t>(spec_.nx));
+  const int j = static_cast<int>(cell / static_cast<std::uint32_t>(spec_.nx));
+  edge_outflow_[static_cast<std::size_t>(edge_slot(i, j, direction))] += quanta;
+  ledger_.exported += quanta;
 }
 
 double GranularGrid::downhill_slope_tan(int i, int j) const {
@@ -335,8 +465,14 @@ __attribute__((always_inline)) inline std::array<std::int32_t, 4> GranularGrid::
 }
 
 void GranularGrid::sweep() {
-  const bool dense = mode_ == SweepMode::kDense ||
-                     (mode_ == SweepMode::kAuto && active_cell_count() * kDenseFraction > quanta_.size());
+  // A tilted grid's faces need the world slopes (tilt_faces): the sparse
+  // path only (such grids are small).
+  if (tilted_ && pending_all_) {
+    pending_all_ = false;
+    for (std::uint32_t c = 0; c < quanta_.size(); ++c) wake(static_cast<int>(c));
+  }
+  const bool dense = !tilted_ && (mode_ == SweepMode::kDense ||
+                                  (mode_ == SweepMode::kAuto && active_cell_count() * kDenseFraction > quanta_.size()));
   ++sweep_count_;
   if (dense) {
     sweep_dense();
@@ -395,7 +531,7 @@ void GranularGrid::sweep_sparse() {
         quanta_[c + offset[d]] += flux.out[d];
         mark_changed(c + offset[d]);
       } else {
-        ledger_.off_site[kEdgeOfDirection[d]] += flux.out[d];
+        send_over_edge(c, d, flux.out[d]);
       }
     }
   }
@@ -465,7 +601,7 @@ void GranularGrid::gather_row(int j, const std::array<std::int32_t, 4>* below,
     if (!(f & kOnEdgeBit[3])) received += below[i][2];
     if (!(f & kOnEdgeBit[2])) received += above[i][3];
     for (int d = 0; d < 4; ++d)
-      if (f & kOnEdgeBit[d]) ledger_.off_site[kEdgeOfDirection[d]] += here[i][d];
+      if ((f & kOnEdgeBit[d]) && here[i][d] != 0) send_over_edge(row + static_cast<std::uint32_t>(i), d, here[i][d]);
     gather(i, received);
   };
   if (j == 0 || j == spec_.ny - 1 || nx < 3) {
@@ -565,6 +701,7 @@ void GranularGrid::step() {
   last_step_ = StepStats{};
   last_step_.substeps = law_.substeps;
   for (int s = 0; s < law_.substeps && !at_rest(); ++s) sweep();
+  if (last_step_.moved_quanta != 0) ++revision_;
 }
 
 }  // namespace skidsim::terrain

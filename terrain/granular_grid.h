@@ -42,20 +42,32 @@ struct GridSpec {
   Eigen::Vector2d origin_m = Eigen::Vector2d::Zero();
   std::array<EdgeKind, 4> edges = {EdgeKind::kClosed, EdgeKind::kClosed,
                                    EdgeKind::kClosed, EdgeKind::kClosed};
+  // Share of the sweep's stability bound (kMaxZPlusOverCell) the flow law
+  // may use. An automaton on a tilting body (set_world_up) uses 1/2: world
+  // slopes steepen the local height differences by up to 1/cos^2 of the
+  // tilt, and the margin keeps the sweep free of checkerboards to ~45 deg.
+  double flow_bound_fraction = 1.0;
 };
 
 // Every amount of material the automaton has seen, in quanta. The invariant
-// initial + added == in_cells + removed + sum(off_site) holds exactly.
+// initial + added + imported == in_cells + removed + exported + sum(off_site)
+// holds exactly. `added`/`removed` are external actions (a hopper, a test);
+// `imported`/`exported` are exchanges with other automata of the same cell
+// size (terrain/material_exchange.h), which balance across the scene.
 struct MaterialLedger {
   std::int64_t initial = 0;
   std::int64_t added = 0;
   std::int64_t removed = 0;
+  std::int64_t imported = 0;
+  std::int64_t exported = 0;
   std::array<std::int64_t, 4> off_site = {0, 0, 0, 0};
   std::int64_t in_cells = 0;
   std::int64_t off_site_total() const {
     return off_site[0] + off_site[1] + off_site[2] + off_site[3];
   }
-  bool balanced() const { return initial + added == in_cells + removed + off_site_total(); }
+  bool balanced() const {
+    return initial + added + imported == in_cells + removed + exported + off_site_total();
+  }
 };
 
 // What the last step did (for benchmarks, statistics and the progress line).
@@ -117,6 +129,46 @@ class GranularGrid {
   // the cell holds: a cell never goes below its base).
   double add_material_m3(int i, int j, double volume_m3);
   double remove_material_m3(int i, int j, double volume_m3);
+
+  // --- Exchange with other automata (terrain/material_exchange.h) ---
+  // Exact moves of loose material in quanta: export is limited to what the
+  // cell holds and returns what left; imported material arrives moving.
+  std::int64_t export_quanta(int cell, std::int64_t quanta);
+  void import_quanta(int cell, std::int64_t quanta);
+  // Open edges hand what crosses them to the caller instead of counting it
+  // off-site (6.3.2: the imaginary neighbours of the border cells). The
+  // material waits per border slot (edge_slot) until taken; the ledger counts
+  // it as exported when it crosses.
+  void capture_edge_outflow(bool on);
+  // Border slot of the face of cell (i, j) towards direction d (+x, -x, +y,
+  // -y) on the grid's edge: 2 (nx + ny) slots in all.
+  int edge_slot(int i, int j, int direction) const;
+  int edge_slot_count() const { return 2 * (spec_.nx + spec_.ny); }
+  // The border cell and outward direction of a slot.
+  void edge_slot_cell(int slot, int* i, int* j, int* direction) const;
+  std::int64_t take_edge_outflow(int slot) {
+    const std::int64_t q = edge_outflow_[slot];
+    edge_outflow_[slot] = 0;
+    return q;
+  }
+  std::int64_t pending_edge_outflow() const;
+
+  // --- An automaton fixed to a moving body (thesis 6.2) ---
+  // World up expressed in the grid's frame (A^T z). Slopes are then the world
+  // slopes of (6.2) between surface points, so material on a tilted base
+  // slides, and spills over an open edge once the tilt exceeds the repose
+  // angle. (0, 0, 1) is an ordinary level grid. Wakes the cells that hold
+  // material when the tilt changed by more than ~0.06 deg since they were
+  // last woken for it.
+  void set_world_up(const Eigen::Vector3d& up_in_grid);
+  const Eigen::Vector3d& world_up() const { return up_; }
+  // Thresholds of the flow law (the soil's repose and stop angles unless
+  // set): lowered while material slides into a vibrating bucket (6.4.2).
+  void set_flow_angles_deg(double repose_deg, double stop_deg);
+  // Counts every change of the cells' material (sweeps that moved material,
+  // exchanges, external actions): a cache of anything computed from the
+  // state is valid while this is unchanged.
+  std::uint64_t revision() const { return revision_; }
 
   // --- Soil-body interaction (terrain/soil_contact.h drives these) ---
   // A cell a body covers completely: no avalanche flux crosses its faces
@@ -191,7 +243,13 @@ class GranularGrid {
 
   void check_cell(const char* what, int i, int j) const;
   void wake(int cell);  // queue a cell's 3 x 3 neighbourhood for the next sweep
-  void refresh_surface(int cell) { surface_m_[cell] = base_m_[cell] + quanta_[cell] * kHeightQuantumM; }
+  void refresh_surface(int cell) {
+    surface_m_[cell] = base_m_[cell] + quanta_[cell] * kHeightQuantumM;
+    ++revision_;
+  }
+  // What crosses an open edge: off-site, or held for the caller.
+  void send_over_edge(std::uint32_t cell, int direction, std::int64_t quanta);
+  void wake_material_cells();
   void sweep();
   void sweep_sparse();
   void sweep_dense();
@@ -213,6 +271,10 @@ class GranularGrid {
              (e + se - w - sw) * 0.25}};
   }
   FaceGeometry face_geometry(std::uint32_t cell) const;  // any cell, edges included
+  // Face geometry of a tilted grid: each drop and tangential difference
+  // replaced by d times the world slope of the vector between the surface
+  // points (6.2).
+  void tilt_faces(FaceGeometry& g) const;
   // No drop across a face of, or towards, a covered cell.
   void block_covered_faces(std::uint32_t cell, FaceGeometry& g) const;
   void compute_flux(std::uint32_t cell, const FaceGeometry& g, CellFlux& flux) const;
@@ -249,6 +311,12 @@ class GranularGrid {
   StepStats last_step_;
   std::uint64_t shuffle_seed_ = 0;
   std::uint64_t sweep_count_ = 0;
+  std::vector<std::int64_t> edge_outflow_;  // per border slot, while captured
+  bool capture_edges_ = false;
+  bool tilted_ = false;
+  Eigen::Vector3d up_ = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d up_woken_ = Eigen::Vector3d::UnitZ();  // tilt at the last wake
+  std::uint64_t revision_ = 0;
 };
 
 }  // namespace skidsim::terrain

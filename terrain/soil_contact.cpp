@@ -62,8 +62,11 @@ void SoilContactModel::reserve_body(int body_id, double diagonal_m) {
   state.covered_next.reserve(cells);
   state.map.cells.reserve(cells);
   state.next.cells.reserve(cells);
+  state.sliced.reserve(cells);
   slots_.reserve(std::max(slots_.capacity(), cells));
 }
+
+void SoilContactModel::set_slicing(int body_id, bool on) { body_state(body_id).slicing = on; }
 
 void SoilContactModel::release(int body_id) {
   if (body_id < 0 || body_id >= static_cast<int>(bodies_.size())) return;
@@ -72,6 +75,7 @@ void SoilContactModel::release(int body_id) {
   state.covered.clear();
   state.map.clear();
   state.next.clear();
+  state.sliced.clear();
   state.in_contact = false;
 }
 
@@ -510,7 +514,16 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
     }
     press(c, motion, out);
   }
+  state.sliced.clear();
   for (const Push& p : pushes_) {
+    if (state.slicing && !p.plastic) {
+      // (6.4) The edge cuts: the swept soil leaves for the body, no wedge.
+      const auto wanted = static_cast<std::int64_t>(p.height_m / kHeightQuantumM);
+      const std::int64_t q = grid_.export_quanta(static_cast<int>(p.cell), wanted);
+      if (q > 0) state.sliced.push_back({p.cell, q});
+      out.displaced_m3 += q * grid_.quantum_volume_m3();
+      continue;
+    }
     const auto it = std::lower_bound(state.next.cells.begin(), state.next.cells.end(), p.cell,
                                      [](const CellContact& c, std::uint32_t cell) { return c.cell < cell; });
     const std::int64_t before_push = grid_.loose_quanta(static_cast<int>(p.cell));

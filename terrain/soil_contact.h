@@ -119,6 +119,18 @@ class SoilContactModel {
   // another body covers them).
   void release(int body_id);
 
+  // A cutting edge (thesis 6.4): a slicing body does not push a fracture
+  // wedge. The soil its advancing interfaces sweep (5.7) leaves the grid
+  // (exported, exact) and is listed per cell for the caller, who puts it on
+  // the body (terrain/material_exchange.h). The list is refilled by each
+  // interact().
+  struct SlicedCell {
+    std::uint32_t cell;
+    std::int64_t quanta;
+  };
+  void set_slicing(int body_id, bool on);
+  const std::vector<SlicedCell>& sliced(int body_id) const { return bodies_.at(body_id).sliced; }
+
   const ContactMap& contact_map(int body_id) const { return bodies_.at(body_id).map; }
   const SoilMechanics& soil(int index = 0) const { return regions_.at(index).soil; }
   // The soil under a cell (its region's).
@@ -133,7 +145,9 @@ class SoilContactModel {
     ContactMap next;   // being built
     std::vector<std::uint32_t> covered;       // cells this body covers completely
     std::vector<std::uint32_t> covered_next;  // being built (each body keeps its own: no regrowth)
+    std::vector<SlicedCell> sliced;           // this step's, for a slicing body
     bool in_contact = false;
+    bool slicing = false;
   };
   struct Push {
     std::uint32_t cell;
