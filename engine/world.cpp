@@ -28,6 +28,8 @@ World::World(const vehicle::LoaderDescription& loader, const FirmGround& ground,
   btContactSolverInfo& info = world_->getSolverInfo();
   info.m_numIterations = 50;
   ground_friction_ = ground.friction;
+  if (ground.has_plane && ground.plane_normal.normalized().z() > 0.999)
+    firm_ground_z_m_ = ground.plane_offset_m / ground.plane_normal.norm();
   auto add_static = [&](btCollisionShape* shape, const btTransform& pose) { add_static_ground(shape, pose); };
   if (ground.has_plane) {
     btTransform t;
@@ -55,6 +57,8 @@ void World::add_static_ground(btCollisionShape* shape, const btTransform& pose) 
 }
 
 World::~World() {
+  for (auto& r : resistances_) world_->removeMultiBodyConstraint(r.get());
+  resistances_.clear();
   loader_.reset();
   for (auto& obj : statics_) world_->removeCollisionObject(obj.get());
 }
@@ -71,6 +75,7 @@ void World::set_link_load(int link, const Eigen::Vector3d& force_N, const Eigen:
 
 void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil) {
   if (grid_) throw std::logic_error("World::add_soil_site: this world already has its soil site");
+  if (exchange_) throw std::logic_error("World::add_soil_site: add the soil site before enable_material or trays");
   if (!grid || grid->nx() < 2 || grid->ny() < 2)
     throw std::invalid_argument("World::add_soil_site: a soil site needs at least 2 x 2 cells");
   grid_ = std::move(grid);
@@ -109,13 +114,112 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
   soft_.assign(d.wheels.size(), {});
   wheel_shapes_.assign(d.wheels.size(), {});
   link_boxes_.clear();
-  for (size_t l = 0; l < d.links.size(); ++l)
+  const int bucket_link = static_cast<int>(d.links.size()) - 1;
+  for (size_t l = 0; l < d.links.size(); ++l) {
+    if (static_cast<int>(l) == bucket_link && d.bucket_interior.present) {
+      // The bucket meets the soil with its plates: the floor plate slices
+      // into the bucket (6.4), the back plate pushes.
+      const vehicle::BucketInterior& in = d.bucket_interior;
+      const double t = in.plate_thickness_m, back_t = std::max(t, grid_->cell_size_m());
+      vehicle::CollisionBox floor, back;
+      // Only the cutting edge's strip of floor meets the cut, and its bottom
+      // rises behind the edge at the bucket's clearance angle towards the
+      // heel: the edge cuts, the bottom rides the cut (pressing what the
+      // edge left would lift the machine's front).
+      const double edge_length = std::min(in.cutting_edge_length_m, in.length_m);
+      const Eigen::Quaterniond clearance(Eigen::AngleAxisd(in.bottom_clearance_rad, Eigen::Vector3d::UnitY()));
+      const Eigen::Vector3d edge = in.origin_m + Eigen::Vector3d(in.length_m, 0.5 * in.width_m, 0.0);
+      floor.pose.rotation = clearance;
+      floor.pose.position_m = edge - clearance * Eigen::Vector3d(0.5 * edge_length, 0.0, 0.5 * t);
+      floor.half_extents_m = Eigen::Vector3d(0.5 * edge_length, 0.5 * in.width_m, 0.5 * t);
+      back.pose.position_m = in.origin_m + Eigen::Vector3d(0.5 * back_t, 0.5 * in.width_m, 0.5 * in.back_height_m);
+      back.half_extents_m = Eigen::Vector3d(0.5 * back_t, 0.5 * in.width_m, 0.5 * in.back_height_m);
+      link_boxes_.push_back({bucket_link, floor, {}, true});
+      link_boxes_.push_back({bucket_link, back, {}, false});
+      continue;
+    }
     for (const vehicle::CollisionBox& b : d.links[l].collision) link_boxes_.push_back({static_cast<int>(l), b, {}});
+  }
   body_in_soil_.assign(d.wheels.size() + link_boxes_.size(), false);
   for (size_t w = 0; w < d.wheels.size(); ++w)
     soil_->reserve_body(static_cast<int>(w), std::hypot(2.0 * d.tyre.radius_m, d.tyre.width_m));
-  for (size_t k = 0; k < link_boxes_.size(); ++k)
+  for (size_t k = 0; k < link_boxes_.size(); ++k) {
     soil_->reserve_body(static_cast<int>(d.wheels.size() + k), 2.0 * link_boxes_[k].box.half_extents_m.norm());
+    resistances_.push_back(std::make_unique<SoilResistance>(&loader_->multibody(), link_boxes_[k].link - 1));
+    world_->addMultiBodyConstraint(resistances_.back().get());
+  }
+  build_material(grid_->soil(), grid_->cell_size_m());
+}
+
+void World::enable_material(const terrain::SoilFlowParameters& soil, double cell_size_m) {
+  if (exchange_) throw std::logic_error("World::enable_material: material handling is already on");
+  build_material(soil, cell_size_m);
+}
+
+void World::build_material(const terrain::SoilFlowParameters& soil, double cell_size_m) {
+  exchange_ = std::make_unique<terrain::MaterialExchange>(grid_.get(), kStepSeconds);
+  exchange_->set_firm_ground_z(firm_ground_z_m_);
+  const vehicle::LoaderDescription& d = loader_->description();
+  if (!d.bucket_interior.present) return;
+  const vehicle::BucketInterior& in = d.bucket_interior;
+  bucket_.automaton = std::make_unique<terrain::BodyAutomaton>(bucket_container(in), soil, cell_size_m, kStepSeconds);
+  bucket_.automaton->grid().reserve_active_cells(static_cast<size_t>(bucket_.automaton->grid().nx()) *
+                                                 bucket_.automaton->grid().ny());
+  bucket_.link = static_cast<int>(d.links.size()) - 1;
+  bucket_.link_from_container = Eigen::Isometry3d::Identity();
+  bucket_.link_from_container.translation() = in.origin_m;
+  bucket_.spreading.eps = in.spreading_eps;
+  bucket_.spreading.block_height_cells = in.spreading_block_cells;
+  terrain::validate(bucket_.spreading);
+  bucket_.exchange_index = exchange_->add_body(bucket_.automaton.get());
+  terrain::CuttingEdge edge;
+  edge.mouth_height_m = in.mouth_height_m;
+  edge.capacity_m3 = in.heaped_volume_m3;
+  edge.filling_angle_drop_deg = in.filling_angle_drop_deg;
+  exchange_->set_cutting_edge(bucket_.exchange_index, edge);
+  material_on_bucket();
+}
+
+int World::add_tray(const TraySpec& tray) {
+  if (!exchange_) throw std::logic_error("World::add_tray: add a soil site or call enable_material first");
+  const terrain::BodyAutomaton* reference = bucket_.automaton.get();
+  const double d = grid_ ? grid_->cell_size_m() : reference ? reference->grid().cell_size_m() : 0.05;
+  const terrain::SoilFlowParameters soil = grid_ ? grid_->soil() : reference ? reference->grid().soil() : terrain::SoilFlowParameters{};
+  auto automaton = std::make_unique<terrain::BodyAutomaton>(tray.shape, soil, d, kStepSeconds);
+  automaton->grid().reserve_active_cells(static_cast<size_t>(automaton->grid().nx()) * automaton->grid().ny());
+  automaton->set_pose(tray.pose, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  // Floor and walls are rigid for the machine (it can hit the truck).
+  const terrain::ContainerShape& s = tray.shape;
+  const double L = s.length_m, W = s.width_m, side = std::max(s.side_height_back_m, s.side_height_front_m);
+  struct Part {
+    Eigen::Vector3d centre, half;
+  } parts[] = {{{0.5 * L, 0.5 * W, -0.5 * tray.floor_thickness_m}, {0.5 * L, 0.5 * W, 0.5 * tray.floor_thickness_m}},
+               {{0.5 * d, 0.5 * W, 0.5 * s.back_height_m}, {0.5 * d, 0.5 * W, 0.5 * s.back_height_m}},
+               {{L - 0.5 * d, 0.5 * W, 0.5 * s.front_height_m}, {0.5 * d, 0.5 * W, 0.5 * s.front_height_m}},
+               {{0.5 * L, 0.5 * d, 0.5 * side}, {0.5 * L, 0.5 * d, 0.5 * side}},
+               {{0.5 * L, W - 0.5 * d, 0.5 * side}, {0.5 * L, 0.5 * d, 0.5 * side}}};
+  const Eigen::Quaterniond q(tray.pose.linear());
+  for (const Part& p : parts) {
+    if (p.half.z() <= 0.0) continue;
+    add_static_ground(new btBoxShape(bt(p.half)),
+                      btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(Eigen::Vector3d(tray.pose * p.centre))));
+  }
+  exchange_->add_body(automaton.get());
+  trays_.push_back(std::move(automaton));
+  return static_cast<int>(trays_.size()) - 1;
+}
+
+double World::bucket_fill_fraction() const {
+  const double struck_m3 = loader_->description().bucket_volume_m3;
+  if (!bucket_.automaton || !(struck_m3 > 0.0)) return 1.0;
+  return std::min(1.0, bucket_.automaton->grid().total_volume_m3() / struck_m3);
+}
+
+void World::material_on_bucket() {
+  if (!bucket_.automaton) return;
+  Eigen::Vector3d v, w;
+  loader_->link_velocity(bucket_.link, v, w);
+  pose_bucket_material(bucket_, loader_->link_pose(bucket_.link), loader_->link_centre_of_mass(bucket_.link), v, w);
 }
 
 Eigen::Vector2i World::cell_under(double x_m, double y_m) const {
@@ -139,7 +243,8 @@ double World::highest_soil_under(const Eigen::AlignedBox3d& box) const {
 }
 
 terrain::BodyReaction World::soil_on_body(int body_id, const terrain::BodyGeometry& shape,
-                                          const terrain::BodyMotion& motion, double highest_soil_m) {
+                                          const terrain::BodyMotion& motion, double highest_soil_m,
+                                          bool wedge_bounds) {
   // Only what a scene needs: a body clear of the soil under it (the chassis
   // over sand, a raised bucket, a wheel on firm ground) costs one scan of
   // the surface, no contact map.
@@ -150,10 +255,9 @@ terrain::BodyReaction World::soil_on_body(int body_id, const terrain::BodyGeomet
     return {};
   }
   body_in_soil_[body_id] = true;
-  // The wedge limits are bounded reactions this engine does not apply yet
-  // (the bucket's, with its filling); not computing them saves a tenth of
-  // the step on sand.
-  return soil_->interact(body_id, shape, motion, false);
+  // Wheels take no wedge limits (their traction and rolling resistance are
+  // the tyre model's): not computing them saves a tenth of the step on sand.
+  return soil_->interact(body_id, shape, motion, wedge_bounds);
 }
 
 // Step 3 of the 2 ms step: the machine's parts meet the soil through their
@@ -179,7 +283,7 @@ void World::soil_on_machine() {
     motion.reference_point_m = shape.centre_m;
     motion.linear_velocity_m_s = v_com + omega.cross(shape.centre_m - com);
     motion.angular_velocity_rad_s = omega;
-    const terrain::BodyReaction r = soil_on_body(static_cast<int>(w), shape, motion, highest);
+    const terrain::BodyReaction r = soil_on_body(static_cast<int>(w), shape, motion, highest, false);
     vehicle::SoftWheelContact& s = soft_[w];
     s = {};
     if (r.contact_cells == 0) continue;
@@ -208,21 +312,52 @@ void World::soil_on_machine() {
     motion.reference_point_m = lb.shape.centre_m;
     motion.linear_velocity_m_s = v + w.cross(lb.shape.centre_m - loader_->link_centre_of_mass(lb.link));
     motion.angular_velocity_rad_s = w;
-    const terrain::BodyReaction r = soil_on_body(static_cast<int>(d.wheels.size() + k), lb.shape, motion,
-                                                 highest_soil_under(lb.shape.world_bounds()));
-    if (r.contact_cells > 0)
-      loader_->add_wrench(lb.link, r.force_N - r.base_force_N, r.torque_Nm - r.base_torque_Nm, lb.shape.centre_m);
+    const int id = static_cast<int>(d.wheels.size() + k);
+    const bool slicing = lb.cutting && exchange_->mouth_open(bucket_.exchange_index);
+    if (lb.cutting) soil_->set_slicing(id, slicing);
+    const terrain::BodyReaction r =
+        soil_on_body(id, lb.shape, motion, highest_soil_under(lb.shape.world_bounds()), true);
+    if (lb.cutting && body_in_soil_[static_cast<size_t>(id)])
+      for (const terrain::SoilContactModel::SlicedCell& c : soil_->sliced(id))
+        exchange_->add_sliced(bucket_.exchange_index, static_cast<int>(c.cell), c.quanta);
+    SoilResistance& resistance = *resistances_[k];
+    resistance.clear();
+    if (r.contact_cells == 0) continue;
+    loader_->add_wrench(lb.link, r.force_N - r.base_force_N, r.torque_Nm - r.base_torque_Nm, lb.shape.centre_m);
+    // The wedges and shear hold the link up to their bounds (a Bullet
+    // constraint). A slicing edge meets no fracture wedge (6.4); what
+    // resists it is the load it drives into the bucket, which the material
+    // already there must make room for: the wedge limit scaled by how full
+    // the bucket is (an empty bucket slices freely, a struck-full one pushes
+    // like a blade).
+    resistance.set(r, slicing ? bucket_fill_fraction() : 1.0, kStepSeconds);
   }
 }
 
 void World::step(const vehicle::LoaderControls& controls) {
   for (const LinkLoad& l : loads_) loader_->add_force(l.link, l.force_N, loader_->link_pose(l.link) * l.point_in_link_m);
+  if (bucket_.automaton) {
+    // (6.5) The material's base loads press on the bucket (posed at the end
+    // of the last step).
+    update_bucket_load(bucket_, 9.81);
+    if (bucket_.weight_N > 0.0)
+      loader_->add_force(bucket_.link, Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N),
+                         bucket_.automaton->pose() * bucket_.load_point_container_m);
+  }
   if (grid_) soil_on_machine();
   loader_->pre_step(controls, kStepSeconds, grid_ ? soft_.data() : nullptr);
   // maxSubSteps = 0: exactly one internal step of kStepSeconds, no interpolation.
   world_->stepSimulation(kStepSeconds, 0, kStepSeconds);
   loader_->post_step(kStepSeconds);
   if (grid_) grid_->step();  // avalanche sweep over the active cells
+  if (exchange_) {
+    if (bucket_.automaton) {
+      material_on_bucket();  // the bucket's new pose: slopes in the world (6.2)
+      bucket_.automaton->grid().step();
+    }
+    for (auto& t : trays_) t->grid().step();
+    exchange_->step();
+  }
   ++steps_;
   watch_stability();
 }

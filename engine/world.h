@@ -9,8 +9,11 @@
 #include <memory>
 #include <vector>
 
+#include "engine/bucket_material.h"
+#include "engine/soil_resistance.h"
 #include "terrain/body_shapes.h"
 #include "terrain/granular_grid.h"
+#include "terrain/material_exchange.h"
 #include "terrain/soil_contact.h"
 #include "vehicle/loader.h"
 
@@ -30,6 +33,16 @@ constexpr double kStepSeconds = 0.002;  // 500 steps per second (thesis)
 struct StaticBox {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // centre, world
   Eigen::Vector3d half_extents_m = Eigen::Vector3d::Constant(0.5);
+};
+
+// An open container standing on site (a truck bed, a hopper): static, with
+// Bullet boxes for its floor and walls, and an automaton for what it holds.
+struct TraySpec {
+  // The container frame in the world: origin at the floor's back corner, x
+  // along its length, y across, z up (terrain::ContainerShape).
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  terrain::ContainerShape shape;
+  double floor_thickness_m = 0.1;
 };
 
 // Firm ground: a plane n . x = offset (omit with has_plane = false) and boxes.
@@ -66,6 +79,23 @@ class World {
   terrain::GranularGrid* terrain() { return grid_.get(); }
   terrain::SoilContactModel* soil_contact() { return soil_.get(); }
 
+  // Material on moving bodies (thesis ch. 6): the bucket carries an
+  // automaton (when its parameters describe its interior), trays hold
+  // material, and the exchange moves it between them and the ground. A soil
+  // site turns this on with its own soil and cell size; a scene without
+  // one calls enable_material first (material reaching the ground then
+  // rests on the firm ground plane). Trays come after either.
+  void enable_material(const terrain::SoilFlowParameters& soil, double cell_size_m);
+  int add_tray(const TraySpec& tray);
+  terrain::BodyAutomaton* bucket_material() { return bucket_.automaton.get(); }
+  const terrain::BodyAutomaton* bucket_material() const { return bucket_.automaton.get(); }
+  terrain::BodyAutomaton& tray(int k) { return *trays_.at(static_cast<size_t>(k)); }
+  int tray_count() const { return static_cast<int>(trays_.size()); }
+  terrain::MaterialExchange* material() { return exchange_.get(); }
+  const terrain::MaterialExchange* material() const { return exchange_.get(); }
+  // The load the bucket's material puts on it this step (N, its weight).
+  double bucket_load_N() const { return bucket_.weight_N; }
+
   // Stability events, first time seen (-1: not yet): the rear wheels lose
   // all load (the machine is tipping forward), the chassis leans past 45 deg.
   struct Events {
@@ -81,9 +111,12 @@ class World {
   void watch_stability();
   void add_static_ground(btCollisionShape* shape, const btTransform& pose);
   void soil_on_machine();
+  void build_material(const terrain::SoilFlowParameters& soil, double cell_size_m);
+  void material_on_bucket();  // poses the bucket's automaton from the link
+  double bucket_fill_fraction() const;  // its material over the struck volume, at most 1
   // One body against the soil: its reaction, or a release when it left the grid.
   terrain::BodyReaction soil_on_body(int body_id, const terrain::BodyGeometry& shape, const terrain::BodyMotion& motion,
-                                     double highest_soil_m);
+                                     double highest_soil_m, bool wedge_bounds);
   // The grid cell under a world point: -1 or n beyond the grid's sides.
   Eigen::Vector2i cell_under(double x_m, double y_m) const;
   // The highest soil surface under a world box (-inf off the grid).
@@ -112,11 +145,17 @@ class World {
     int link;
     vehicle::CollisionBox box;
     terrain::OrientedBox shape;
+    bool cutting = false;  // the bucket's floor plate: slices into the bucket (6.4)
   };
   std::vector<LinkBox> link_boxes_;
+  std::vector<std::unique_ptr<SoilResistance>> resistances_;  // one per link box
   std::vector<bool> body_in_soil_;  // wheels, then link boxes
   std::vector<double> base_heights_;  // the soil site's hard base, Bullet's heightfield data
   double ground_friction_ = 0.8;
+  double firm_ground_z_m_ = 0.0;
+  BucketMaterial bucket_;
+  std::vector<std::unique_ptr<terrain::BodyAutomaton>> trays_;
+  std::unique_ptr<terrain::MaterialExchange> exchange_;
 };
 
 }  // namespace skidsim::engine

@@ -305,6 +305,45 @@ void read_cylinder(LoaderDescription& d, const std::string& path, const tinyxml2
   d.cylinders.push_back(c);
 }
 
+// <bucket> children: <interior> (the container the load rides in) and
+// <filling> (cutting edge and load spreading), both optional together.
+void read_bucket_interior(LoaderDescription& d, const std::string& path, const tinyxml2::XMLElement* bucket) {
+  vehicle::BucketInterior& in = d.bucket_interior;
+  bool have_interior = false, have_filling = false;
+  for (const tinyxml2::XMLElement* c = bucket->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    const std::string name = c->Name();
+    AttributeReader a(path, c);
+    if (name == "interior") {
+      if (have_interior) a.fail("appears twice");
+      have_interior = true;
+      in.origin_m = a.vector3("origin");
+      in.length_m = a.number_in("length_m", 0.1, 10.0);
+      in.width_m = a.number_in("width_m", 0.1, 10.0);
+      in.back_height_m = a.number_in("back_height_m", 0.0, 5.0);
+      in.side_height_front_m = a.number_in("side_height_front_m", 0.0, 5.0);
+      in.heel_radius_m = a.number_in("heel_radius_m", 0.0, 5.0);
+      in.plate_thickness_m = a.number_in("plate_thickness_m", 0.005, 0.5);
+      in.cutting_edge_length_m = a.number_in("cutting_edge_length_m", 0.01, 10.0);
+      in.bottom_clearance_rad = a.number_in("bottom_clearance_deg", 0.0, 45.0) * kPi / 180.0;
+      a.reject_unknown();
+      if (in.heel_radius_m > in.back_height_m) a.fail("heel_radius_m must not exceed back_height_m");
+    } else if (name == "filling") {
+      if (have_filling) a.fail("appears twice");
+      have_filling = true;
+      in.mouth_height_m = a.number_in("mouth_height_m", 0.01, 5.0);
+      in.heaped_volume_m3 = a.number_in("heaped_volume_m3", 0.001, 50.0);
+      in.filling_angle_drop_deg = a.number_in("angle_drop_deg", 0.0, 30.0);
+      in.spreading_eps = a.number_in("spreading_eps", 0.0, 0.5);
+      in.spreading_block_cells = a.number_in("block_height_cells", 0.25, 8.0);
+      a.reject_unknown();
+    } else {
+      a.fail("unknown element (expected <interior> or <filling>)");
+    }
+  }
+  if (have_filling && !have_interior) fail_at(path, bucket, "<filling> needs an <interior>");
+  in.present = have_interior;
+}
+
 }  // namespace
 
 LoaderDescription load_loader(const std::string& parameters_path) {
@@ -423,6 +462,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       d.bucket_load_centre_m = a.vector3("load_centre");
       d.bucket_volume_m3 = a.number_in("volume_m3", 0.01, 20.0);
       a.reject_unknown();
+      read_bucket_interior(d, parameters_path, e);
     } else {
       a.fail("unknown element");
     }

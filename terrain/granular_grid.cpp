@@ -279,8 +279,16 @@ GranularGrid::FaceGeometry GranularGrid::face_geometry(std::uint32_t cell) const
   FaceGeometry g = face_geometry_from(here, e, w, n, s, ne, nw, se, sw);
   // Beyond an open edge the imaginary neighbour sits at this cell's base
   // (material falls off); a closed edge is a wall (no drop).
-  for (int d = 0; d < 4; ++d)
-    if (f & kOnEdgeBit[d]) g.drop[d] = here - base_m_[cell];
+  for (int d = 0; d < 4; ++d) {
+    if (!(f & kOnEdgeBit[d])) continue;
+    double outside = base_m_[cell];
+    if (capture_edges_) {
+      const double neighbour = edge_neighbour_m_[static_cast<std::size_t>(
+          edge_slot(static_cast<int>(cell % static_cast<std::uint32_t>(nx)), static_cast<int>(cell / static_cast<std::uint32_t>(nx)), d))];
+      if (neighbour > outside) outside = neighbour;  // false for NaN
+    }
+    g.drop[d] = here - outside;
+  }
   if (tilted_) tilt_faces(g);
   for (int d = 0; d < 4; ++d)
     if ((f & kOnEdgeBit[d]) && spec_.edges[kEdgeOfDirection[d]] != EdgeKind::kOpen) g.drop[d] = 0.0;
@@ -369,7 +377,10 @@ void GranularGrid::import_quanta(int cell, std::int64_t quanta) {
 
 void GranularGrid::capture_edge_outflow(bool on) {
   capture_edges_ = on;
-  if (on && edge_outflow_.empty()) edge_outflow_.assign(static_cast<std::size_t>(edge_slot_count()), 0);
+  if (on && edge_outflow_.empty()) {
+    edge_outflow_.assign(static_cast<std::size_t>(edge_slot_count()), 0);
+    edge_neighbour_m_.assign(static_cast<std::size_t>(edge_slot_count()), std::numeric_limits<double>::quiet_NaN());
+  }
 }
 
 int GranularGrid::edge_slot(int i, int j, int direction) const {

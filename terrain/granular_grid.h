@@ -152,6 +152,11 @@ class GranularGrid {
     return q;
   }
   std::int64_t pending_edge_outflow() const;
+  // (6.3.2) The imaginary neighbour of a border slot is at the border cell's
+  // base unless another automaton's surface stands higher there (a bucket's
+  // lip against the pile it digs into): then that surface, in this grid's
+  // height units. NaN: none. Only with edge capture on.
+  void set_edge_neighbour_height(int slot, double height_m) { edge_neighbour_m_[static_cast<std::size_t>(slot)] = height_m; }
 
   // --- An automaton fixed to a moving body (thesis 6.2) ---
   // World up expressed in the grid's frame (A^T z). Slopes are then the world
@@ -312,6 +317,7 @@ class GranularGrid {
   std::uint64_t shuffle_seed_ = 0;
   std::uint64_t sweep_count_ = 0;
   std::vector<std::int64_t> edge_outflow_;  // per border slot, while captured
+  std::vector<double> edge_neighbour_m_;    // per border slot, NaN: the cell's base
   bool capture_edges_ = false;
   bool tilted_ = false;
   Eigen::Vector3d up_ = Eigen::Vector3d::UnitZ();

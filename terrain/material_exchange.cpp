@@ -56,8 +56,9 @@ int MaterialExchange::add_body(BodyAutomaton* body) {
 }
 
 void MaterialExchange::set_cutting_edge(int k, const CuttingEdge& edge) {
-  if (!(edge.mouth_height_m > 0.0 && edge.filling_angle_drop_deg >= 0.0 && edge.filling_hold_s >= 0.0))
-    throw std::invalid_argument("cutting edge: mouth_height_m must be > 0, the angle drop and hold >= 0");
+  if (!(edge.mouth_height_m > 0.0 && edge.capacity_m3 > 0.0 && edge.filling_angle_drop_deg >= 0.0 &&
+        edge.filling_hold_s >= 0.0))
+    throw std::invalid_argument("cutting edge: mouth_height_m and capacity_m3 must be > 0, the angle drop and hold >= 0");
   Body& b = bodies_.at(static_cast<std::size_t>(k));
   b.cutting = true;
   b.edge = edge;
@@ -88,7 +89,7 @@ bool MaterialExchange::mouth_open(int k) const {
   const GranularGrid& g = b.automaton->grid();
   double total = 0.0;
   for (int j = 0; j < g.ny(); ++j) total += g.material_m(g.nx() - 1, j);
-  return total / g.ny() < b.edge.mouth_height_m;
+  return total / g.ny() < b.edge.mouth_height_m && g.total_volume_m3() < b.edge.capacity_m3;
 }
 
 void MaterialExchange::step() {
@@ -130,6 +131,7 @@ void MaterialExchange::emit_edges(int k) {
     // The imaginary neighbour (6.3.2): one cell out, at the border cell's
     // base; the material leaves from there with the body's velocity.
     const Eigen::Vector3d at = a.world_point(i + kStep[dir][0], j + kStep[dir][1], g.base_m(i, j));
+    stats_.quanta_over_edge[dir] += q;
     spawn(at, a.velocity_at(at), q, k);
   }
 }
@@ -142,7 +144,9 @@ void MaterialExchange::shed_all(int k) {
       const int cell = g.index(i, j);
       if (g.loose_quanta(cell) == 0) continue;
       const Eigen::Vector3d at = a.world_point(i, j, g.base_m(i, j) + 0.5 * g.material_m(i, j));
-      spawn(at, a.velocity_at(at), g.export_quanta(cell, g.loose_quanta(cell)), k);
+      const std::int64_t q = g.export_quanta(cell, g.loose_quanta(cell));
+      stats_.quanta_shed += q;
+      spawn(at, a.velocity_at(at), q, k);
     }
 }
 
@@ -160,11 +164,16 @@ void MaterialExchange::flow_over_edges(int k) {
     int i = 0, j = 0, dir = 0;
     g.edge_slot_cell(slot, &i, &j, &dir);
     const Eigen::Vector3d at = a.world_point(i + kStep[dir][0], j + kStep[dir][1], g.base_m(i, j));
+    g.set_edge_neighbour_height(slot, std::numeric_limits<double>::quiet_NaN());
     const double fi = std::floor((at.x() - gs.origin_m.x()) / d + 0.5), fj = std::floor((at.y() - gs.origin_m.y()) / d + 0.5);
     if (!(fi >= 0.0 && fj >= 0.0 && fi < gs.nx && fj < gs.ny)) continue;
     const int gi = static_cast<int>(fi), gj = static_cast<int>(fj);
     const double ground_surface = ground_->surface_m(gi, gj);
     if (ground_surface <= at.z()) continue;  // still below the upper base
+    // The ground cell is the border cell's neighbour now (6.3.2): nothing
+    // runs out over the edge into soil standing higher.
+    const double up_z = g.world_up().z();
+    if (up_z > 0.087) g.set_edge_neighbour_height(slot, g.base_m(i, j) + (ground_surface - at.z()) / up_z);
     const double upper_surface = a.surface_world_z(i, j);
     const double rise = ground_surface - upper_surface;
     if (rise <= 0.0) continue;
@@ -196,6 +205,10 @@ void MaterialExchange::feed_frontier(int k) {
     b.advance_m += std::max(0.0, a.velocity_at(lip).dot(forward.normalized())) * dt_s_;
   }
   if (b.slice_total > 0 && (b.advance_m >= d || b.since_slice_s > kFlushAfterS)) {
+    // (6.4.2) The frontier row takes what was cut; the lowered angles let
+    // it run on inwards. (The thesis also shifts the whole load back one
+    // cell at each deposit; that piles it against the back wall and over
+    // it, so the avalanches alone carry it in here.)
     for (int j = 0; j < g.ny(); ++j) {
       std::int64_t& q = b.slice_by_column[static_cast<std::size_t>(j)];
       g.import_quanta(g.index(g.nx() - 1, j), q);
@@ -205,6 +218,10 @@ void MaterialExchange::feed_frontier(int k) {
     b.since_filling_s = 0.0;
   }
   if (b.advance_m >= d) b.advance_m = std::fmod(b.advance_m, d);
+  // While the edge cuts, what stands in front of the frontier row is the
+  // uncut face it is driving into: nothing runs out over the lip.
+  if (b.since_slice_s < b.edge.filling_hold_s)
+    for (int j = 0; j < g.ny(); ++j) g.set_edge_neighbour_height(g.edge_slot(g.nx() - 1, j, 0), kMaxColumnM);
   const SoilFlowParameters& soil = g.soil();
   if (b.since_filling_s < b.edge.filling_hold_s) {
     const double drop = b.edge.filling_angle_drop_deg;

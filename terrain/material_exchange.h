@@ -9,9 +9,9 @@
 //     cell under the imaginary neighbour flows into the border cell by the
 //     ground's own avalanche rule (6.3.3: soil pushed over the lip).
 //   - A cutting edge (6.4.2): soil the edge slices from the ground (see
-//     SoilContactModel::set_slicing) is held and put in the body's frontier
-//     row each time the body has advanced one of its cells, and the body's
-//     repose angle is lowered while material slides in.
+//     SoilContactModel::set_slicing) is held until the body has advanced one
+//     of its cells, then put in the frontier row. The body's repose angle is
+//     lowered while material slides in.
 // Every move is whole quanta between grids of one cell size, so the total
 // over ground, bodies, parcels, held slices, firm ground and off-site is
 // constant exactly (total_quanta()).
@@ -40,6 +40,8 @@ struct CuttingEdge {
   // The mouth is choked (the edge stops slicing and pushes like any body)
   // when the material over the frontier row stands this high on average.
   double mouth_height_m = 0.30;
+  // It chokes as well once it holds its heaped capacity (m^3).
+  double capacity_m3 = 1e9;
   // Repose and stop angles drop by this much while material slides in
   // (6.4.2: the vibration of filling).
   double filling_angle_drop_deg = 8.0;
@@ -53,6 +55,10 @@ struct ExchangeStats {
   std::int64_t parcels_forced = 0;  // landed at once because the parcel list was full
   std::int64_t quanta_sliced = 0;
   std::int64_t quanta_over_lip = 0;  // ground into a body (6.3.3)
+  // What left the bodies over their edges, per direction (+x: a bucket's
+  // lip, -x: its back, +-y: its sides), and shed by tipping.
+  std::int64_t quanta_over_edge[4] = {0, 0, 0, 0};
+  std::int64_t quanta_shed = 0;
 };
 
 class MaterialExchange {

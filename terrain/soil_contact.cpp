@@ -214,12 +214,15 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
   out.normal_stiffness_N_per_m += slope * area + base_stiffness;
   out.normal_damping_N_s_per_m += damping * area;
   if (vertical <= 0.0) return;
+  out.contact_area_m2 += area;
   // Mohr-Coulomb on the soil-tool contact (5.4.2): (a + sigma_n tan delta) A,
-  // over the cells that carry load; it acts where its parts do.
-  const double shear = 1000.0 * soil.tool_adhesion_kPa * area + vertical * region.tan_tool_friction;
+  // over the cells whose soil carries load; it acts where its parts do. The
+  // hard base's share is not soil: its friction is the base contact's own
+  // (an engine's rigid contact).
+  if (pressure <= 0.0) return;
+  const double shear = 1000.0 * soil.tool_adhesion_kPa * area + pressure * area * region.tan_tool_friction;
   out.shear_bound_N += shear;
   out.shear_point_m += shear * c.point_m;
-  out.contact_area_m2 += area;
 }
 
 int SoilContactModel::region_in_front(const CellContact& c, int f) const {

@@ -127,6 +127,32 @@ struct Wheel {
   std::vector<VisualMesh> visuals;  // in the wheel frame (axle along y)
 };
 
+// The inside of the bucket, for the automaton that carries its load (thesis
+// 6.4.1, terrain/body_automaton.h). The container frame has the bucket
+// link's axes (x towards the cutting edge, y across, z up from the floor
+// with the bucket level) and its origin at the floor's back corner.
+struct BucketInterior {
+  bool present = false;
+  Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();  // in the bucket link frame
+  double length_m = 0.0;   // back wall to cutting edge, walls included
+  double width_m = 0.0;    // side plate to side plate
+  double back_height_m = 0.0;
+  double side_height_front_m = 0.0;  // side plates' top above the floor at the cutting edge
+  double heel_radius_m = 0.0;
+  double plate_thickness_m = 0.04;   // floor and back plates, for their contact with the soil
+  double cutting_edge_length_m = 0.25;  // the strip of floor behind the edge that rides the cut
+  double bottom_clearance_rad = 0.14;   // its bottom's rise towards the heel
+  // Filling (6.4.2): the mouth chokes (the edge pushes instead of slicing)
+  // when the material over the frontier row stands this high; the repose
+  // angle on the bucket drops while material slides in.
+  double mouth_height_m = 0.30;
+  double heaped_volume_m3 = 0.38;  // it chokes, too, once it holds this much
+  double filling_angle_drop_deg = 8.0;
+  // The load-spreading kernel (6.5) for the load on the bucket.
+  double spreading_eps = 0.4;
+  double spreading_block_cells = 1.5;
+};
+
 struct LoaderDescription {
   std::string urdf_path, parameters_path;
   // links[0] is the chassis (floating base), then one link per joint, each
@@ -144,6 +170,7 @@ struct LoaderDescription {
   // a struck-full bucket holds: used by the tipping and rating checks.
   Eigen::Vector3d bucket_load_centre_m = Eigen::Vector3d::Zero();
   double bucket_volume_m3 = 0.0;
+  BucketInterior bucket_interior;
   double total_mass_kg() const {
     double m = 0.0;
     for (const RigidLink& l : links) m += l.mass_kg;

@@ -1,0 +1,42 @@
+#include "engine/bucket_material.h"
+
+namespace skidsim::engine {
+
+terrain::ContainerShape bucket_container(const vehicle::BucketInterior& in) {
+  terrain::ContainerShape s;
+  s.length_m = in.length_m;
+  s.width_m = in.width_m;
+  s.back_height_m = in.back_height_m;
+  s.side_height_back_m = in.back_height_m;
+  s.side_height_front_m = in.side_height_front_m;
+  s.front_height_m = 0.0;  // the cutting edge
+  s.heel_radius_m = in.heel_radius_m;
+  return s;
+}
+
+void pose_bucket_material(BucketMaterial& b, const Eigen::Isometry3d& link_pose, const Eigen::Vector3d& com_m,
+                          const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega) {
+  const Eigen::Isometry3d pose = link_pose * b.link_from_container;
+  b.automaton->set_pose(pose, v_com + omega.cross(pose.translation() - com_m), omega);
+}
+
+void update_bucket_load(BucketMaterial& b, double gravity_m_s2) {
+  const terrain::GranularGrid& g = b.automaton->grid();
+  if (g.revision() == b.loads_revision) return;
+  b.loads_revision = g.revision();
+  terrain::base_loads_N(g, b.spreading, gravity_m_s2, &b.loads_N, &b.scratch);
+  double total = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  const double d = g.cell_size_m();
+  for (int j = 0; j < g.ny(); ++j)
+    for (int i = 0; i < g.nx(); ++i) {
+      const double load = b.loads_N[static_cast<std::size_t>(g.index(i, j))];
+      if (load == 0.0) continue;
+      total += load;
+      moment += load * Eigen::Vector3d((i + 0.5) * d, (j + 0.5) * d, g.base_m(i, j));
+    }
+  b.weight_N = total;
+  b.load_point_container_m = total > 0.0 ? Eigen::Vector3d(moment / total) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace skidsim::engine

@@ -1,0 +1,48 @@
+// The load the bucket carries (thesis 6.4, 6.5): an automaton fixed to the
+// bucket link, posed from the link every step, whose base loads (the
+// load-spreading kernel) press on the bucket and so on the arm and the
+// cylinders.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "terrain/body_automaton.h"
+#include "terrain/load_spreading.h"
+#include "vehicle/loader_description.h"
+
+namespace skidsim::engine {
+
+// The container a bucket interior describes (terrain's shape from the
+// loader's parameters).
+terrain::ContainerShape bucket_container(const vehicle::BucketInterior& interior);
+
+struct BucketMaterial {
+  std::unique_ptr<terrain::BodyAutomaton> automaton;
+  int exchange_index = -1;  // in the world's MaterialExchange
+  int link = -1;
+  Eigen::Isometry3d link_from_container = Eigen::Isometry3d::Identity();
+  terrain::LoadSpreading spreading;
+  // The base loads' resultant, recomputed when the grid changes: the
+  // weight (N) and where its line of action meets the base, in the
+  // container frame.
+  double weight_N = 0.0;
+  Eigen::Vector3d load_point_container_m = Eigen::Vector3d::Zero();
+  std::uint64_t loads_revision = ~std::uint64_t{0};
+  std::vector<double> loads_N;
+  terrain::LoadSpreadingScratch scratch;
+};
+
+// Poses the automaton from the bucket link's pose and velocity (the link's
+// centre of mass `com_m` moving at `v_com`, turning at `omega`).
+void pose_bucket_material(BucketMaterial& b, const Eigen::Isometry3d& link_pose, const Eigen::Vector3d& com_m,
+                          const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega);
+
+// Refreshes the load resultant when the material changed (6.5: the base
+// loads sum to the weight).
+void update_bucket_load(BucketMaterial& b, double gravity_m_s2);
+
+}  // namespace skidsim::engine

@@ -1,0 +1,46 @@
+// The soil's bounded reactions on a link as a Bullet constraint (thesis
+// 5.4.2 and 5.5.2; terrain/soil_contact.h, BodyReaction): fracture wedges
+// ahead of a body's interfaces and Mohr-Coulomb shear under it hold the
+// body still up to their bounds, like dry friction. Each is a velocity row
+// (the link's point must not move along an axis) whose impulse the solver
+// keeps within bound * dt, so the soil resists exactly what the machine
+// pushes with, up to the bound, and never pushes back on its own: stable
+// at 2 ms for any bound (an explicit saturating force is not).
+#pragma once
+
+#include <BulletDynamics/Featherstone/btMultiBodyConstraint.h>
+
+#include <Eigen/Core>
+
+#include "terrain/soil_contact.h"
+
+namespace skidsim::engine {
+
+class SoilResistance : public btMultiBodyConstraint {
+ public:
+  // `bullet_link` is Bullet's link index (-1 for the base).
+  SoilResistance(btMultiBody* body, int bullet_link);
+
+  // This step's rows from the soil's reaction, `scale` of its bounds; `dt_s`
+  // turns the bounds into impulse limits. No rows: clear().
+  void set(const terrain::BodyReaction& r, double scale, double dt_s);
+  void clear() { rows_ = 0; }
+
+  void finalizeMultiDof() override {}
+  int getIslandIdA() const override;
+  int getIslandIdB() const override { return -1; }
+  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                            const btContactSolverInfo& info) override;
+  void debugDraw(class btIDebugDraw*) override {}
+
+ private:
+  struct Row {
+    btVector3 point, direction;
+    double lower = 0.0, upper = 0.0;  // impulse along `direction`
+  };
+  static constexpr int kMaxRows = 4;
+  Row row_[kMaxRows];
+  int rows_ = 0;
+};
+
+}  // namespace skidsim::engine
