@@ -22,8 +22,19 @@ void pose_bucket_material(BucketMaterial& b, const Eigen::Isometry3d& link_pose,
 
 void update_bucket_load(BucketMaterial& b, double gravity_m_s2) {
   const terrain::GranularGrid& g = b.automaton->grid();
-  if (g.revision() == b.loads_revision) return;
-  b.loads_revision = g.revision();
+  ++b.steps_since_spread;
+  if (g.revision() != b.loads_revision) {
+    b.loads_revision = g.revision();
+    b.spread_stale = true;
+  }
+  if (!b.spread_stale) return;
+  const double weight = static_cast<double>(g.total_quanta()) * g.quantum_mass_kg() * gravity_m_s2;
+  if (b.steps_since_spread < kSpreadEverySteps && b.weight_N > 0.0 && weight > 0.0) {
+    b.weight_N = weight;  // where it acts: the last spread's point
+    return;
+  }
+  b.steps_since_spread = 0;
+  b.spread_stale = false;
   terrain::base_loads_N(g, b.spreading, gravity_m_s2, &b.loads_N, &b.scratch);
   double total = 0.0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();

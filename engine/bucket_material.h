@@ -32,6 +32,8 @@ struct BucketMaterial {
   double weight_N = 0.0;
   Eigen::Vector3d load_point_container_m = Eigen::Vector3d::Zero();
   std::uint64_t loads_revision = ~std::uint64_t{0};
+  int steps_since_spread = 1 << 20;  // since the kernel last ran
+  bool spread_stale = true;          // the material moved since
   std::vector<double> loads_N;
   terrain::LoadSpreadingScratch scratch;
 };
@@ -42,7 +44,11 @@ void pose_bucket_material(BucketMaterial& b, const Eigen::Isometry3d& link_pose,
                           const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega);
 
 // Refreshes the load resultant when the material changed (6.5: the base
-// loads sum to the weight).
+// loads sum to the weight). The weight is always the material's own; the
+// kernel that places it runs at most every kSpreadEverySteps steps while
+// material moves (a load shifting within 10 ms; it is a tenth of a filling
+// step's cost).
+constexpr int kSpreadEverySteps = 5;
 void update_bucket_load(BucketMaterial& b, double gravity_m_s2);
 
 }  // namespace skidsim::engine

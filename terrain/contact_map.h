@@ -67,6 +67,13 @@ struct ContactMap {
 class ContactMapper {
  public:
   void build(const GranularGrid& grid, const BodyGeometry& body, const BodyMotion& motion, ContactMap* map);
+  // Sizes the scratch for footprints of up to `corners` cell corners, so
+  // that building maps that large never allocates.
+  void reserve(std::size_t corners) {
+    corners_.reserve(corners);
+    x_edge_t_.reserve(corners);
+    y_edge_t_.reserve(corners);
+  }
 
  private:
   struct Corner {

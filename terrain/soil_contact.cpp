@@ -64,6 +64,7 @@ void SoilContactModel::reserve_body(int body_id, double diagonal_m) {
   state.next.cells.reserve(cells);
   state.sliced.reserve(cells);
   slots_.reserve(std::max(slots_.capacity(), cells));
+  mapper_.reserve(static_cast<std::size_t>((reach + 1.0) * (reach + 1.0)));
 }
 
 void SoilContactModel::set_slicing(int body_id, bool on) { body_state(body_id).slicing = on; }
