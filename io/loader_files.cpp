@@ -317,8 +317,9 @@ void read_bucket_interior(LoaderDescription& d, const std::string& path, const t
       if (have_interior) a.fail("appears twice");
       have_interior = true;
       in.origin_m = a.vector3("origin");
-      in.length_m = a.number_in("length_m", 0.1, 10.0);
-      in.width_m = a.number_in("width_m", 0.1, 10.0);
+      // At least three cells of the coarsest site (10 cm) each way.
+      in.length_m = a.number_in("length_m", 0.3, 10.0);
+      in.width_m = a.number_in("width_m", 0.3, 10.0);
       in.back_height_m = a.number_in("back_height_m", 0.0, 5.0);
       in.side_height_front_m = a.number_in("side_height_front_m", 0.0, 5.0);
       in.heel_radius_m = a.number_in("heel_radius_m", 0.0, 5.0);

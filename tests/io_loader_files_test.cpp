@@ -174,6 +174,21 @@ TEST_F(BrokenLoader, MeshScaleMustBePositive) {
   expect_error({"skidsteer.urdf:", "link 'bucket'", "scale"});
 }
 
+TEST_F(BrokenLoader, BucketInteriorErrorsNameTheElement) {
+  replace("skidsteer.params.xml", "heel_radius_m=\"0.30\"", "heel_radius_m=\"0.60\"");
+  expect_error({"skidsteer.params.xml:", "<interior>", "heel_radius_m"});
+}
+
+TEST_F(BrokenLoader, UnknownBucketChildAndBadFillingAreRejected) {
+  replace("skidsteer.params.xml", "<filling mouth_height_m", "<filing mouth_height_m");
+  expect_error({"skidsteer.params.xml:", "<filing>", "unknown element"});
+}
+
+TEST_F(BrokenLoader, FillingParameterOutOfRangeIsRejected) {
+  replace("skidsteer.params.xml", "spreading_eps=\"0.4\"", "spreading_eps=\"0.7\"");
+  expect_error({"skidsteer.params.xml:", "<filling>", "spreading_eps", "out of range"});
+}
+
 TEST_F(BrokenLoader, MissingUrdfAndMissingParametersAreReported) {
   fs::remove(path("skidsteer.urdf"));
   expect_error({"skidsteer.params.xml:", "skidsteer.urdf", "no such file"});
