@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/pour_job.h"
+#include "apps/dig_job.h"
 #include "apps/push_job.h"
 #include "io/atomic_file.h"
 #include "io/loader_files.h"
@@ -129,6 +130,16 @@ int main(int argc, char** argv) {
   push_cmd->add_option("--speed-m-s", push.speed_m_s, "Push speed, m/s")->capture_default_str();
   push_cmd->add_option("--distance-m", push.distance_m, "Length of the push, m")->capture_default_str();
 
+  skidsim::apps::DigJob dig;
+  CLI::App* dig_cmd = app.add_subcommand(
+      "dig", "The loader fills its bucket from a sand bank, carries the load to a truck bed and dumps it,\n"
+             "driven by a built-in scripted operator: summary.json (masses, books), phases.csv, height maps");
+  add_job_options(dig_cmd, dig.out_dir, dig.soil_id, dig.soil_table_path);
+  dig_cmd->add_option("--cells-per-m", dig.cells_per_m, "Grid density of the site and the bucket, cells per metre")
+      ->capture_default_str();
+  dig_cmd->add_option("--bank-m", dig.bank_height_m, "Height of the sand bank, m")->capture_default_str();
+  dig_cmd->add_option("--loader", dig.loader_path, "Loader parameter file (default: the shipped loader)");
+
   bool bench_json = false;
   std::string bench_filter, bench_out;
   double bench_min_time = 0.0;
@@ -162,6 +173,7 @@ int main(int argc, char** argv) {
   try {
     if (*pour_cmd) return skidsim::apps::run_pour_job(pour);
     if (*push_cmd) return skidsim::apps::run_push_job(push);
+    if (*dig_cmd) return skidsim::apps::run_dig_job(dig);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_loader(loader_path, check_json);

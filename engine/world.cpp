@@ -97,19 +97,29 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
       lo = std::min(lo, b);
       hi = std::max(hi, b);
     }
-  // Tight bounds: Bullet only pairs a collider (or a tyre's probe) with the
-  // base when it comes within 5 cm of it: a pair costs a pass over the
-  // triangles under it every step, and making one allocates, once.
-  lo -= 0.05;
-  hi += 0.05;
-  auto* base = new btHeightfieldTerrainShape(spec.nx, spec.ny, base_heights_.data(), lo, hi, 2, false);
-  base->setLocalScaling(btVector3(spec.cell_size_m, spec.cell_size_m, 1.0));
-  // Bullet centres a heightfield on its bounds; vertex (i, j) is cell (i, j)'s centre.
   btTransform pose;
   pose.setIdentity();
-  pose.setOrigin(btVector3(spec.origin_m.x() + 0.5 * spec.cell_size_m * (spec.nx - 1),
-                           spec.origin_m.y() + 0.5 * spec.cell_size_m * (spec.ny - 1), 0.5 * (lo + hi)));
-  add_static_ground(base, pose);
+  const double centre_x = spec.origin_m.x() + 0.5 * spec.cell_size_m * (spec.nx - 1);
+  const double centre_y = spec.origin_m.y() + 0.5 * spec.cell_size_m * (spec.ny - 1);
+  if (lo == hi) {
+    // A flat base is a box (its top the base, its sides the grid's): one
+    // convex contact per collider instead of a pass over the triangles
+    // under it.
+    const double half_x = 0.5 * spec.cell_size_m * (spec.nx - 1), half_y = 0.5 * spec.cell_size_m * (spec.ny - 1);
+    pose.setOrigin(btVector3(centre_x, centre_y, lo - 0.5));
+    add_static_ground(new btBoxShape(btVector3(half_x, half_y, 0.5)), pose);
+  } else {
+    // Tight bounds: Bullet only pairs a collider (or a tyre's probe) with the
+    // base when it comes within 5 cm of it: a pair costs a pass over the
+    // triangles under it every step, and making one allocates, once.
+    lo -= 0.05;
+    hi += 0.05;
+    auto* base = new btHeightfieldTerrainShape(spec.nx, spec.ny, base_heights_.data(), lo, hi, 2, false);
+    base->setLocalScaling(btVector3(spec.cell_size_m, spec.cell_size_m, 1.0));
+    // Bullet centres a heightfield on its bounds; vertex (i, j) is cell (i, j)'s centre.
+    pose.setOrigin(btVector3(centre_x, centre_y, 0.5 * (lo + hi)));
+    add_static_ground(base, pose);
+  }
   const vehicle::LoaderDescription& d = loader_->description();
   soft_.assign(d.wheels.size(), {});
   wheel_shapes_.assign(d.wheels.size(), {});

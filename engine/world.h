@@ -77,6 +77,7 @@ class World {
   // under 2 x 2 cells).
   void add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const terrain::SoilMechanics& soil);
   terrain::GranularGrid* terrain() { return grid_.get(); }
+  const terrain::GranularGrid* terrain() const { return grid_.get(); }
   terrain::SoilContactModel* soil_contact() { return soil_.get(); }
 
   // Material on moving bodies (thesis ch. 6): the bucket carries an
@@ -90,6 +91,7 @@ class World {
   terrain::BodyAutomaton* bucket_material() { return bucket_.automaton.get(); }
   const terrain::BodyAutomaton* bucket_material() const { return bucket_.automaton.get(); }
   terrain::BodyAutomaton& tray(int k) { return *trays_.at(static_cast<size_t>(k)); }
+  const terrain::BodyAutomaton& tray(int k) const { return *trays_.at(static_cast<size_t>(k)); }
   int tray_count() const { return static_cast<int>(trays_.size()); }
   terrain::MaterialExchange* material() { return exchange_.get(); }
   const terrain::MaterialExchange* material() const { return exchange_.get(); }

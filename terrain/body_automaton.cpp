@@ -77,6 +77,7 @@ BodyAutomaton::BodyAutomaton(const ContainerShape& shape, const SoilFlowParamete
 void BodyAutomaton::set_pose(const Eigen::Isometry3d& world_from_container, const Eigen::Vector3d& origin_velocity_m_s,
                              const Eigen::Vector3d& angular_velocity_rad_s) {
   pose_ = world_from_container;
+  inverse_pose_ = pose_.inverse(Eigen::Isometry);
   origin_velocity_ = origin_velocity_m_s;
   angular_velocity_ = angular_velocity_rad_s;
   grid_->set_world_up(pose_.linear().transpose() * Eigen::Vector3d::UnitZ());
@@ -94,7 +95,7 @@ Eigen::Vector3d BodyAutomaton::velocity_at(const Eigen::Vector3d& world_point_m)
 bool BodyAutomaton::cell_under(const Eigen::Vector3d& world_point_m, int* i, int* j) const {
   const Eigen::Vector3d up = grid_->world_up();
   if (up.z() < 0.087) return false;  // the floor faces sideways or down
-  const Eigen::Vector3d p = pose_.inverse() * world_point_m;
+  const Eigen::Vector3d p = inverse_pose_ * world_point_m;
   const Eigen::Vector3d on_floor = p - (p.z() / up.z()) * up;
   const double d = grid_->cell_size_m();
   const double fi = std::floor(on_floor.x() / d), fj = std::floor(on_floor.y() / d);

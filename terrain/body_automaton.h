@@ -57,6 +57,7 @@ class BodyAutomaton {
   void set_pose(const Eigen::Isometry3d& world_from_container, const Eigen::Vector3d& origin_velocity_m_s,
                 const Eigen::Vector3d& angular_velocity_rad_s);
   const Eigen::Isometry3d& pose() const { return pose_; }
+  const Eigen::Isometry3d& inverse_pose() const { return inverse_pose_; }
   // (6.1): p = R + A p', with p' = (x of cell i, y of cell j, height above
   // the floor). Fractional indices are allowed (a cell's face is at +-0.5).
   Eigen::Vector3d world_point(double i, double j, double height_m) const;
@@ -74,6 +75,7 @@ class BodyAutomaton {
   ContainerShape shape_;
   std::unique_ptr<GranularGrid> grid_;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d inverse_pose_ = Eigen::Isometry3d::Identity();  // world to container
   Eigen::Vector3d origin_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity_ = Eigen::Vector3d::Zero();
 };

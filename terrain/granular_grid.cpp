@@ -300,23 +300,21 @@ void GranularGrid::tilt_faces(FaceGeometry& g) const {
   // (6.2): the slope between two surface points is that of the vector
   // between them in the world. Face k goes +-d along one grid axis with the
   // height change -drop along z'; its world rise is its dot product with
-  // world up (expressed in the grid frame), its run what is left of its
-  // length. The slope magnitude is that of the surface's plane through this
-  // vector and the tangential one (their cross product is its normal), so
-  // a compound tilt gives the exact steepest world slope.
-  const double d = spec_.cell_size_m;
+  // world up u (in the grid frame), its run what is left of its length. The
+  // slope magnitude is that of the surface's plane through this vector and
+  // the tangential one, (0, d, t) or (d, 0, t): its normal n is their cross
+  // product, tan^2 = (|n|^2 - (n.u)^2) / (n.u)^2, written out below (n / d).
+  const double d = spec_.cell_size_m, ux = up_.x(), uy = up_.y(), uz = up_.z();
   const double floor_run2 = 1e-12 * d * d;  // a vertical vector: a huge slope, not a division by zero
   for (int k = 0; k < 4; ++k) {
     const double sign = (k % 2 == 0) ? 1.0 : -1.0;
-    const bool along_x = k < 2;
-    const Eigen::Vector3d face(along_x ? sign * d : 0.0, along_x ? 0.0 : sign * d, -g.drop[k]);
-    const Eigen::Vector3d across(along_x ? 0.0 : d, along_x ? d : 0.0, g.tangential[k]);
-    const double rise = face.dot(up_);
-    const double run = std::sqrt(std::max(face.squaredNorm() - rise * rise, floor_run2));
+    const double drop = g.drop[k], t = g.tangential[k];
+    const double rise = sign * d * (k < 2 ? ux : uy) - drop * uz;
+    const double run = std::sqrt(std::max(d * d + drop * drop - rise * rise, floor_run2));
     const double slope_along = -rise / run;
-    const Eigen::Vector3d normal = face.cross(across);
-    const double normal_up = normal.dot(up_);
-    const double tan2 = (normal.squaredNorm() - normal_up * normal_up) / std::max(normal_up * normal_up, 1e-12 * normal.squaredNorm());
+    const double n2 = drop * drop + t * t + d * d;
+    const double nu = k < 2 ? drop * ux - sign * t * uy + sign * d * uz : sign * t * ux - drop * uy - sign * d * uz;
+    const double tan2 = (n2 - nu * nu) / std::max(nu * nu, 1e-12 * n2);
     g.drop[k] = slope_along * d;
     g.tangential[k] = std::sqrt(std::max(0.0, tan2 - slope_along * slope_along)) * d;
   }

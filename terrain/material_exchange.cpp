@@ -75,7 +75,7 @@ void MaterialExchange::add_sliced(int k, int ground_cell, std::int64_t quanta) {
                            ground_->surface_at(ground_cell));
   // The column of the frontier row the soil was cut in front of, the side
   // walls excluded.
-  const Eigen::Vector3d local = a.pose().inverse() * at;
+  const Eigen::Vector3d local = a.inverse_pose() * at;
   const int lo = ny >= 3 ? 1 : 0, hi = ny >= 3 ? ny - 2 : ny - 1;
   const int j = std::clamp(static_cast<int>(std::floor(local.y() / a.grid().cell_size_m())), lo, hi);
   b.slice_by_column[static_cast<std::size_t>(j)] += quanta;
