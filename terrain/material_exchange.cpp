@@ -103,6 +103,17 @@ void MaterialExchange::step() {
   move_parcels();
 }
 
+bool MaterialExchange::ground_cell(const Eigen::Vector3d& at, int* i, int* j) const {
+  if (!ground_) return false;
+  const GridSpec& gs = ground_->spec();
+  const double fi = std::floor((at.x() - gs.origin_m.x()) / gs.cell_size_m + 0.5);
+  const double fj = std::floor((at.y() - gs.origin_m.y()) / gs.cell_size_m + 0.5);
+  if (!(fi >= 0.0 && fj >= 0.0 && fi < gs.nx && fj < gs.ny)) return false;
+  *i = static_cast<int>(fi);
+  *j = static_cast<int>(fj);
+  return true;
+}
+
 void MaterialExchange::spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocity, std::int64_t quanta,
                              int from_body) {
   if (quanta <= 0) return;
@@ -157,17 +168,15 @@ void MaterialExchange::flow_over_edges(int k) {
   // border cell's surface.
   BodyAutomaton& a = *bodies_[static_cast<std::size_t>(k)].automaton;
   GranularGrid& g = a.grid();
-  const GridSpec& gs = ground_->spec();
   const FlowLaw& law = ground_->flow_law();
-  const double d = gs.cell_size_m;
+  const double d = ground_->cell_size_m();
   for (int slot = 0; slot < g.edge_slot_count(); ++slot) {
     int i = 0, j = 0, dir = 0;
     g.edge_slot_cell(slot, &i, &j, &dir);
     const Eigen::Vector3d at = a.world_point(i + kStep[dir][0], j + kStep[dir][1], g.base_m(i, j));
     g.set_edge_neighbour_height(slot, std::numeric_limits<double>::quiet_NaN());
-    const double fi = std::floor((at.x() - gs.origin_m.x()) / d + 0.5), fj = std::floor((at.y() - gs.origin_m.y()) / d + 0.5);
-    if (!(fi >= 0.0 && fj >= 0.0 && fi < gs.nx && fj < gs.ny)) continue;
-    const int gi = static_cast<int>(fi), gj = static_cast<int>(fj);
+    int gi = 0, gj = 0;
+    if (!ground_cell(at, &gi, &gj)) continue;
     const double ground_surface = ground_->surface_m(gi, gj);
     if (ground_surface <= at.z()) continue;  // still below the upper base
     // The ground cell is the border cell's neighbour now (6.3.2): nothing
@@ -257,24 +266,17 @@ void MaterialExchange::move_parcels() {
     }
     bool landed = target_body >= 0;
     if (!landed) {
-      if (ground_) {
-        const GridSpec& gs = ground_->spec();
-        const double fi = std::floor((p.position_m.x() - gs.origin_m.x()) / gs.cell_size_m + 0.5);
-        const double fj = std::floor((p.position_m.y() - gs.origin_m.y()) / gs.cell_size_m + 0.5);
-        if (fi >= 0.0 && fj >= 0.0 && fi < gs.nx && fj < gs.ny) {
-          if (p.position_m.z() <= ground_->surface_m(static_cast<int>(fi), static_cast<int>(fj))) {
-            landed = true;
-            target_body = -1;
-            ti = static_cast<int>(fi);
-            tj = static_cast<int>(fj);
-          }
-        } else if (p.position_m.z() <= firm_ground_z_m_) {
+      int gi = 0, gj = 0;
+      if (ground_cell(p.position_m, &gi, &gj)) {
+        if (p.position_m.z() <= ground_->surface_m(gi, gj)) {
           landed = true;
-          target_body = -3;  // beside the site
+          target_body = -1;
+          ti = gi;
+          tj = gj;
         }
       } else if (p.position_m.z() <= firm_ground_z_m_) {
         landed = true;
-        target_body = -4;  // firm ground
+        target_body = ground_ ? -3 : -4;  // beside the site, or on firm ground
       }
     }
     if (!landed) {
@@ -320,18 +322,14 @@ void MaterialExchange::land(const FallingParcel& p) {
     g.import_quanta(g.index(ti, tj), p.quanta);
     return;
   }
-  if (ground_) {
-    const GridSpec& gs = ground_->spec();
-    const double fi = std::floor((p.position_m.x() - gs.origin_m.x()) / gs.cell_size_m + 0.5);
-    const double fj = std::floor((p.position_m.y() - gs.origin_m.y()) / gs.cell_size_m + 0.5);
-    if (fi >= 0.0 && fj >= 0.0 && fi < gs.nx && fj < gs.ny) {
-      ground_->import_quanta(ground_->index(static_cast<int>(fi), static_cast<int>(fj)), p.quanta);
-      return;
-    }
+  int gi = 0, gj = 0;
+  if (ground_cell(p.position_m, &gi, &gj)) {
+    ground_->import_quanta(ground_->index(gi, gj), p.quanta);
+  } else if (ground_) {
     off_site_ += p.quanta;
-    return;
+  } else {
+    on_firm_ground_ += p.quanta;
   }
-  on_firm_ground_ += p.quanta;
 }
 
 std::int64_t MaterialExchange::in_flight_quanta() const {

@@ -115,6 +115,9 @@ class MaterialExchange {
   void move_parcels();
   void land(const FallingParcel& p);
   void spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocity, std::int64_t quanta, int from_body);
+  // The ground cell under a world point; false beside the ground grid (or
+  // without one).
+  bool ground_cell(const Eigen::Vector3d& at, int* i, int* j) const;
 
   GranularGrid* ground_ = nullptr;
   double dt_s_;
