@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 namespace skidsim::engine {
@@ -28,8 +29,11 @@ World::World(const vehicle::LoaderDescription& loader, const FirmGround& ground,
   btContactSolverInfo& info = world_->getSolverInfo();
   info.m_numIterations = 50;
   ground_friction_ = ground.friction;
-  if (ground.has_plane && ground.plane_normal.normalized().z() > 0.999)
-    firm_ground_z_m_ = ground.plane_offset_m / ground.plane_normal.norm();
+  if (ground.has_plane) {
+    // Bullet's plane: normalized(n) . x = offset.
+    firm_ground_normal_ = ground.plane_normal.normalized();
+    firm_ground_offset_m_ = ground.plane_offset_m;
+  }
   auto add_static = [&](btCollisionShape* shape, const btTransform& pose) { add_static_ground(shape, pose); };
   if (ground.has_plane) {
     btTransform t;
@@ -78,6 +82,9 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
   if (exchange_) throw std::logic_error("World::add_soil_site: add the soil site before enable_material or trays");
   if (!grid || grid->nx() < 2 || grid->ny() < 2)
     throw std::invalid_argument("World::add_soil_site: a soil site needs at least 2 x 2 cells");
+  // Everything that can refuse this site first: a failure leaves the world
+  // as it was.
+  std::unique_ptr<terrain::BodyAutomaton> bucket = make_bucket_automaton(grid->soil(), grid->cell_size_m());
   grid_ = std::move(grid);
   soil_ = std::make_unique<terrain::SoilContactModel>(*grid_, soil);
   // A machine working a site keeps up to a few thousand cells moving: size
@@ -158,29 +165,57 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
     resistances_.push_back(std::make_unique<SoilResistance>(&loader_->multibody(), link_boxes_[k].link - 1));
     world_->addMultiBodyConstraint(resistances_.back().get());
   }
-  build_material(grid_->soil(), grid_->cell_size_m());
+  material_soil_ = grid_->soil();
+  material_cell_m_ = grid_->cell_size_m();
+  build_material(std::move(bucket));
 }
 
 void World::enable_material(const terrain::SoilFlowParameters& soil, double cell_size_m) {
   if (exchange_) throw std::logic_error("World::enable_material: material handling is already on");
-  build_material(soil, cell_size_m);
+  std::unique_ptr<terrain::BodyAutomaton> bucket = make_bucket_automaton(soil, cell_size_m);
+  material_soil_ = soil;
+  material_cell_m_ = cell_size_m;
+  build_material(std::move(bucket));
 }
 
-void World::build_material(const terrain::SoilFlowParameters& soil, double cell_size_m) {
-  exchange_ = std::make_unique<terrain::MaterialExchange>(grid_.get(), kStepSeconds);
-  exchange_->set_firm_ground_z(firm_ground_z_m_);
+std::unique_ptr<terrain::BodyAutomaton> World::make_bucket_automaton(const terrain::SoilFlowParameters& soil,
+                                                                     double cell_size_m) const {
   const vehicle::LoaderDescription& d = loader_->description();
-  if (!d.bucket_interior.present) return;
+  if (!d.bucket_interior.present) return nullptr;
   const vehicle::BucketInterior& in = d.bucket_interior;
-  bucket_.automaton = std::make_unique<terrain::BodyAutomaton>(bucket_container(in), soil, cell_size_m, kStepSeconds);
-  bucket_.automaton->grid().reserve_active_cells(static_cast<size_t>(bucket_.automaton->grid().nx()) *
-                                                 bucket_.automaton->grid().ny());
+  try {
+    terrain::LoadSpreading spreading;
+    spreading.eps = in.spreading_eps;
+    spreading.block_height_cells = in.spreading_block_cells;
+    terrain::validate(spreading);
+    return std::make_unique<terrain::BodyAutomaton>(bucket_container(in), soil, cell_size_m, kStepSeconds);
+  } catch (const std::invalid_argument& e) {
+    std::ostringstream msg;
+    msg << d.parameters_path << ": <bucket> <interior>/<filling> cannot make the bucket's automaton at "
+        << cell_size_m << " m cells: " << e.what();
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void World::build_material(std::unique_ptr<terrain::BodyAutomaton> bucket) {
+  exchange_ = std::make_unique<terrain::MaterialExchange>(grid_.get(), kStepSeconds);
+  exchange_->set_firm_ground_plane(firm_ground_normal_, firm_ground_offset_m_);
+  if (!bucket) return;
+  const vehicle::LoaderDescription& d = loader_->description();
+  const vehicle::BucketInterior& in = d.bucket_interior;
+  bucket_.automaton = std::move(bucket);
+  const size_t cells = static_cast<size_t>(bucket_.automaton->grid().nx()) * bucket_.automaton->grid().ny();
+  bucket_.automaton->grid().reserve_active_cells(cells);
+  // The load kernel's buffers, so that the first load does not allocate in a step.
+  bucket_.loads_N.reserve(cells);
+  bucket_.scratch.above.reserve(cells);
+  bucket_.scratch.here.reserve(cells);
+  bucket_.scratch.row.reserve(cells);
   bucket_.link = static_cast<int>(d.links.size()) - 1;
   bucket_.link_from_container = Eigen::Isometry3d::Identity();
   bucket_.link_from_container.translation() = in.origin_m;
   bucket_.spreading.eps = in.spreading_eps;
   bucket_.spreading.block_height_cells = in.spreading_block_cells;
-  terrain::validate(bucket_.spreading);
   bucket_.exchange_index = exchange_->add_body(bucket_.automaton.get());
   terrain::CuttingEdge edge;
   edge.mouth_height_m = in.mouth_height_m;
@@ -192,10 +227,8 @@ void World::build_material(const terrain::SoilFlowParameters& soil, double cell_
 
 int World::add_tray(const TraySpec& tray) {
   if (!exchange_) throw std::logic_error("World::add_tray: add a soil site or call enable_material first");
-  const terrain::BodyAutomaton* reference = bucket_.automaton.get();
-  const double d = grid_ ? grid_->cell_size_m() : reference ? reference->grid().cell_size_m() : 0.05;
-  const terrain::SoilFlowParameters soil = grid_ ? grid_->soil() : reference ? reference->grid().soil() : terrain::SoilFlowParameters{};
-  auto automaton = std::make_unique<terrain::BodyAutomaton>(tray.shape, soil, d, kStepSeconds);
+  const double d = material_cell_m_;
+  auto automaton = std::make_unique<terrain::BodyAutomaton>(tray.shape, material_soil_, d, kStepSeconds);
   automaton->grid().reserve_active_cells(static_cast<size_t>(automaton->grid().nx()) * automaton->grid().ny());
   automaton->set_pose(tray.pose, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
   // Floor and walls are rigid for the machine (it can hit the truck).
@@ -229,7 +262,11 @@ void World::material_on_bucket() {
   if (!bucket_.automaton) return;
   Eigen::Vector3d v, w;
   loader_->link_velocity(bucket_.link, v, w);
-  pose_bucket_material(bucket_, loader_->link_pose(bucket_.link), loader_->link_centre_of_mass(bucket_.link), v, w);
+  const Eigen::Isometry3d pose = loader_->link_pose(bucket_.link);
+  // A machine gone non-finite is an event (watch_stability), not a throw:
+  // the load keeps its last pose.
+  if (!pose.matrix().allFinite() || !v.allFinite() || !w.allFinite()) return;
+  pose_bucket_material(bucket_, pose, loader_->link_centre_of_mass(bucket_.link), v, w);
 }
 
 Eigen::Vector2i World::cell_under(double x_m, double y_m) const {
@@ -324,7 +361,10 @@ void World::soil_on_machine() {
     motion.angular_velocity_rad_s = w;
     const int id = static_cast<int>(d.wheels.size() + k);
     const bool slicing = lb.cutting && exchange_->mouth_open(bucket_.exchange_index);
-    if (lb.cutting) soil_->set_slicing(id, slicing);
+    if (lb.cutting) {
+      Eigen::Vector3d forward = lb.shape.orientation * Eigen::Vector3d::UnitX();  // towards the edge
+      soil_->set_slicing(id, slicing, forward.head<2>());
+    }
     const terrain::BodyReaction r =
         soil_on_body(id, lb.shape, motion, highest_soil_under(lb.shape.world_bounds()), true);
     if (lb.cutting && body_in_soil_[static_cast<size_t>(id)])

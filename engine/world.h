@@ -113,7 +113,12 @@ class World {
   void watch_stability();
   void add_static_ground(btCollisionShape* shape, const btTransform& pose);
   void soil_on_machine();
-  void build_material(const terrain::SoilFlowParameters& soil, double cell_size_m);
+  // The bucket's automaton at this soil and cell size (null when the
+  // loader's bucket has no interior); throws std::invalid_argument naming
+  // the parameter file when it cannot be made.
+  std::unique_ptr<terrain::BodyAutomaton> make_bucket_automaton(const terrain::SoilFlowParameters& soil,
+                                                                double cell_size_m) const;
+  void build_material(std::unique_ptr<terrain::BodyAutomaton> bucket);
   void material_on_bucket();  // poses the bucket's automaton from the link
   double bucket_fill_fraction() const;  // its material over the struck volume, at most 1
   // One body against the soil: its reaction, or a release when it left the grid.
@@ -154,7 +159,10 @@ class World {
   std::vector<bool> body_in_soil_;  // wheels, then link boxes
   std::vector<double> base_heights_;  // the soil site's hard base, Bullet's heightfield data
   double ground_friction_ = 0.8;
-  double firm_ground_z_m_ = 0.0;
+  Eigen::Vector3d firm_ground_normal_ = Eigen::Vector3d::UnitZ();  // where spilled material rests off the site
+  double firm_ground_offset_m_ = -1e6;                               // (no plane: far below)
+  terrain::SoilFlowParameters material_soil_;  // trays' soil and cells: the site's, or enable_material's
+  double material_cell_m_ = 0.05;
   BucketMaterial bucket_;
   std::vector<std::unique_ptr<terrain::BodyAutomaton>> trays_;
   std::unique_ptr<terrain::MaterialExchange> exchange_;

@@ -15,15 +15,17 @@ namespace {
 }
 
 int cells_along(double length_m, double cell_size_m) {
-  return static_cast<int>(std::lround(length_m / cell_size_m));
+  return static_cast<int>(std::lround(std::min(length_m / cell_size_m, 1e6)));
 }
 
 }  // namespace
 
 void validate(const ContainerShape& s, double cell_size_m) {
   if (!(cell_size_m > 0.0 && std::isfinite(cell_size_m))) bad_shape("cell_size_m", cell_size_m, "> 0");
-  if (!(s.length_m >= 3.0 * cell_size_m && s.length_m < 100.0)) bad_shape("length_m", s.length_m, ">= 3 cells, < 100 m");
-  if (!(s.width_m >= 3.0 * cell_size_m && s.width_m < 100.0)) bad_shape("width_m", s.width_m, ">= 3 cells, < 100 m");
+  if (!(s.length_m < 100.0 && cells_along(s.length_m, cell_size_m) >= 3))
+    bad_shape("length_m", s.length_m, "at least 3 cells, under 100 m");
+  if (!(s.width_m < 100.0 && cells_along(s.width_m, cell_size_m) >= 3))
+    bad_shape("width_m", s.width_m, "at least 3 cells, under 100 m");
   const struct {
     const char* name;
     double value;
@@ -48,7 +50,8 @@ BodyAutomaton::BodyAutomaton(const ContainerShape& shape, const SoilFlowParamete
   spec.origin_m = Eigen::Vector2d::Constant(0.5 * cell_size_m);
   spec.edges = {EdgeKind::kOpen, EdgeKind::kOpen, EdgeKind::kOpen, EdgeKind::kOpen};
   spec.flow_bound_fraction = 0.5;  // see GridSpec: the grid tilts
-  grid_ = std::make_unique<GranularGrid>(spec, soil, step_dt_s);
+  // A body's grid is small: it may take more sub-steps than a site's.
+  grid_ = std::make_unique<GranularGrid>(spec, soil, step_dt_s, 256);
   grid_->capture_edge_outflow(true);
   const double d = cell_size_m;
   const double inner_length = (spec.nx - 1) * d;  // back wall's inner face to the front

@@ -346,6 +346,9 @@ void GranularGrid::set_flow_angles_deg(double repose_deg, double stop_deg) {
   const bool lowered = tan_repose < law_.tan_repose || tan_stop < law_.tan_stop;
   law_.tan_repose = tan_repose;
   law_.tan_stop = tan_stop;
+  // The transport floor must stay under z+ tan(alpha_I) (the stability
+  // bound rests on it): at most the soil's own, at most tan(alpha_I).
+  law_.transport_excess = std::min(soil_.min_flow_layer_m / soil_.rolling_layer_m, tan_stop);
   if (lowered) wake_material_cells();
 }
 

@@ -147,8 +147,9 @@ class GranularGrid {
   // The border cell and outward direction of a slot.
   void edge_slot_cell(int slot, int* i, int* j, int* direction) const;
   std::int64_t take_edge_outflow(int slot) {
-    const std::int64_t q = edge_outflow_[slot];
-    edge_outflow_[slot] = 0;
+    if (edge_outflow_.empty()) return 0;  // not captured
+    const std::int64_t q = edge_outflow_[static_cast<std::size_t>(slot)];
+    edge_outflow_[static_cast<std::size_t>(slot)] = 0;
     return q;
   }
   std::int64_t pending_edge_outflow() const;
@@ -156,7 +157,9 @@ class GranularGrid {
   // base unless another automaton's surface stands higher there (a bucket's
   // lip against the pile it digs into): then that surface, in this grid's
   // height units. NaN: none. Only with edge capture on.
-  void set_edge_neighbour_height(int slot, double height_m) { edge_neighbour_m_[static_cast<std::size_t>(slot)] = height_m; }
+  void set_edge_neighbour_height(int slot, double height_m) {
+    if (!edge_neighbour_m_.empty()) edge_neighbour_m_[static_cast<std::size_t>(slot)] = height_m;
+  }
 
   // --- An automaton fixed to a moving body (thesis 6.2) ---
   // World up expressed in the grid's frame (A^T z). Slopes are then the world

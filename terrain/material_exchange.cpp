@@ -77,7 +77,8 @@ void MaterialExchange::add_sliced(int k, int ground_cell, std::int64_t quanta) {
   // walls excluded.
   const Eigen::Vector3d local = a.inverse_pose() * at;
   const int lo = ny >= 3 ? 1 : 0, hi = ny >= 3 ? ny - 2 : ny - 1;
-  const int j = std::clamp(static_cast<int>(std::floor(local.y() / a.grid().cell_size_m())), lo, hi);
+  const double column = std::floor(local.y() / a.grid().cell_size_m());  // clamped as a double: no overflow
+  const int j = std::isfinite(column) ? static_cast<int>(std::clamp(column, double(lo), double(hi))) : lo;
   b.slice_by_column[static_cast<std::size_t>(j)] += quanta;
   b.slice_total += quanta;
   b.since_slice_s = 0.0;
@@ -103,6 +104,13 @@ void MaterialExchange::step() {
   move_parcels();
 }
 
+void MaterialExchange::set_firm_ground_plane(const Eigen::Vector3d& normal, double offset_m) {
+  if (!(normal.allFinite() && normal.z() > 0.0 && std::isfinite(offset_m)))
+    throw std::invalid_argument("MaterialExchange: the firm ground's normal must point up and be finite");
+  firm_normal_ = normal.normalized();
+  firm_offset_m_ = offset_m;
+}
+
 bool MaterialExchange::ground_cell(const Eigen::Vector3d& at, int* i, int* j) const {
   if (!ground_) return false;
   const GridSpec& gs = ground_->spec();
@@ -124,7 +132,6 @@ void MaterialExchange::spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& v
     // below (counted; the list is sized so that this does not happen in a
     // loader's work).
     ++stats_.parcels_forced;
-    p.position_m.z() = -std::numeric_limits<double>::infinity();
     land(p);
     return;
   }
@@ -274,7 +281,7 @@ void MaterialExchange::move_parcels() {
           ti = gi;
           tj = gj;
         }
-      } else if (p.position_m.z() <= firm_ground_z_m_) {
+      } else if (below_firm_ground(p.position_m) || p.position_m.z() < -1000.0) {  // (no plane: it rests far down)
         landed = true;
         target_body = ground_ ? -3 : -4;  // beside the site, or on firm ground
       }
@@ -300,16 +307,16 @@ void MaterialExchange::move_parcels() {
 }
 
 void MaterialExchange::land(const FallingParcel& p) {
-  // Straight down from where it is: the highest automaton surface under it,
-  // else the ground, else firm ground.
+  // Straight down from where it is: the highest automaton surface below it
+  // (not the body it leaves), else the ground, else firm ground.
   double best = -std::numeric_limits<double>::infinity();
   int target = -1, ti = 0, tj = 0;
   for (int k = 0; k < body_count(); ++k) {
     const BodyAutomaton& a = *bodies_[static_cast<std::size_t>(k)].automaton;
     int i = 0, j = 0;
-    if (!a.cell_under(p.position_m, &i, &j)) continue;
+    if (k == p.from_body || !a.cell_under(p.position_m, &i, &j)) continue;
     const double surface = a.surface_world_z(i, j);
-    if (surface > best && k != p.from_body) {
+    if (surface <= p.position_m.z() + cell_size_m_ && surface > best) {
       best = surface;
       target = k;
       ti = i;

@@ -64,7 +64,7 @@ struct ExchangeStats {
 class MaterialExchange {
  public:
   // `ground` may be null (a scene with no soil): material reaching the
-  // ground then rests on firm ground at `firm_ground_z_m`.
+  // ground then rests on the firm ground plane (set_firm_ground_plane).
   MaterialExchange(GranularGrid* ground, double step_dt_s, std::size_t max_parcels = 16384);
 
   // Adds a body automaton (not owned; it must outlive the exchange). Its
@@ -73,7 +73,9 @@ class MaterialExchange {
   int body_count() const { return static_cast<int>(bodies_.size()); }
   BodyAutomaton& body(int k) { return *bodies_[static_cast<std::size_t>(k)].automaton; }
   void set_cutting_edge(int body, const CuttingEdge& edge);
-  void set_firm_ground_z(double z_m) { firm_ground_z_m_ = z_m; }
+  // Firm ground where there is no automaton: the plane normal . x = offset
+  // (normal pointing up, normalised here). Default: z = 0.
+  void set_firm_ground_plane(const Eigen::Vector3d& normal, double offset_m);
 
   // Soil a body's cutting edge sliced from ground cell `ground_cell` this
   // step (already exported from the ground). Held until the body advances.
@@ -123,7 +125,9 @@ class MaterialExchange {
   double dt_s_;
   double cell_size_m_ = 0.0;
   double quantum_mass_kg_ = 0.0;
-  double firm_ground_z_m_ = 0.0;
+  Eigen::Vector3d firm_normal_ = Eigen::Vector3d::UnitZ();
+  double firm_offset_m_ = 0.0;
+  bool below_firm_ground(const Eigen::Vector3d& p) const { return firm_normal_.dot(p) <= firm_offset_m_; }
   std::vector<Body> bodies_;
   std::vector<FallingParcel> parcels_;
   std::size_t max_parcels_;

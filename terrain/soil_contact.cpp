@@ -67,7 +67,11 @@ void SoilContactModel::reserve_body(int body_id, double diagonal_m) {
   mapper_.reserve(static_cast<std::size_t>((reach + 1.0) * (reach + 1.0)));
 }
 
-void SoilContactModel::set_slicing(int body_id, bool on) { body_state(body_id).slicing = on; }
+void SoilContactModel::set_slicing(int body_id, bool on, const Eigen::Vector2d& forward) {
+  BodyState& state = body_state(body_id);
+  state.slicing = on && forward.norm() > 1e-9;
+  if (state.slicing) state.slicing_forward = forward.normalized();
+}
 
 void SoilContactModel::release(int body_id) {
   if (body_id < 0 || body_id >= static_cast<int>(bodies_.size())) return;
@@ -520,7 +524,8 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
   }
   state.sliced.clear();
   for (const Push& p : pushes_) {
-    if (state.slicing && !p.plastic) {
+    if (state.slicing && !p.plastic &&
+        kStep[p.direction][0] * state.slicing_forward.x() + kStep[p.direction][1] * state.slicing_forward.y() > 0.3) {
       // (6.4) The edge cuts: the swept soil leaves for the body, no wedge.
       const auto wanted = static_cast<std::int64_t>(p.height_m / kHeightQuantumM);
       const std::int64_t q = grid_.export_quanta(static_cast<int>(p.cell), wanted);

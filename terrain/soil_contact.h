@@ -120,15 +120,17 @@ class SoilContactModel {
   void release(int body_id);
 
   // A cutting edge (thesis 6.4): a slicing body does not push a fracture
-  // wedge. The soil its advancing interfaces sweep (5.7) leaves the grid
-  // (exported, exact) and is listed per cell for the caller, who puts it on
-  // the body (terrain/material_exchange.h). The list is refilled by each
-  // interact().
+  // wedge. The soil its interfaces sweep (5.7) as they advance along the
+  // edge's horizontal `forward` direction (within 72 deg of it) leaves the
+  // grid (exported, exact) and is listed per cell for the caller, who puts
+  // it on the body (terrain/material_exchange.h); moving any other way the
+  // body pushes soil like any other (a bucket backing up drags its heel).
+  // The list is refilled by each interact().
   struct SlicedCell {
     std::uint32_t cell;
     std::int64_t quanta;
   };
-  void set_slicing(int body_id, bool on);
+  void set_slicing(int body_id, bool on, const Eigen::Vector2d& forward = Eigen::Vector2d::UnitX());
   const std::vector<SlicedCell>& sliced(int body_id) const { return bodies_.at(body_id).sliced; }
 
   const ContactMap& contact_map(int body_id) const { return bodies_.at(body_id).map; }
@@ -148,6 +150,7 @@ class SoilContactModel {
     std::vector<SlicedCell> sliced;           // this step's, for a slicing body
     bool in_contact = false;
     bool slicing = false;
+    Eigen::Vector2d slicing_forward = Eigen::Vector2d::UnitX();
   };
   struct Push {
     std::uint32_t cell;

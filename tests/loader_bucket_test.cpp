@@ -322,6 +322,62 @@ TEST(LoaderBucket, SameControlsGiveTheSameMaterialBitForBit) {
   EXPECT_TRUE(first == run());
 }
 
+// Backing up with the bucket down drags soil; it does not fill the bucket.
+TEST(LoaderBucket, BackingUpWithTheBucketDownDoesNotFillIt) {
+  auto w = loader_before_strip(20.0, 0.3);
+  vehicle::LoaderControls c;
+  for (int s = 0; s < 2500; ++s) {  // drive into the bank, then back out with the bucket down
+    c = {};
+    c.drive_left = c.drive_right = s < 1000 ? 0.3 : -0.5;
+    c.tilt = std::clamp(6.0 * (bucket_pitch(*w) - 0.0), -1.0, 1.0);
+    w->step(c);
+  }
+  const std::int64_t sliced_forward = w->material()->stats().quanta_sliced;
+  EXPECT_GT(sliced_forward, 0);
+  for (int s = 0; s < 1500; ++s) {
+    c = {};
+    c.drive_left = c.drive_right = -0.5;
+    w->step(c);
+  }
+  EXPECT_EQ(w->material()->stats().quanta_sliced, sliced_forward) << "reversing must not slice";
+  EXPECT_EQ(w->material()->held_slice_quanta(), 0);
+}
+
+// A machine gone non-finite is reported, not thrown (review: the bucket's
+// automaton had refused the NaN pose and aborted the step).
+TEST(LoaderBucket, NonFiniteMachineIsAnEventNotAnException) {
+  auto w = loader_before_strip(10.0);
+  w->set_link_load(0, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero());
+  vehicle::LoaderControls c;
+  EXPECT_NO_THROW(run_for(*w, c, 0.1));
+  EXPECT_FALSE(w->events().finite);
+}
+
+// A site the bucket's automaton cannot work with is refused naming the
+// parameter file, and the world is left as it was (review: a half-built
+// world crashed on its next step).
+TEST(LoaderBucket, SiteTooCoarseForTheBucketIsRefusedCleanly) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0, 0, shipped_loader().tyre.radius_m - 0.01);
+  engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.03, 0.03);
+  try {
+    w.add_soil_site(engine::flat_soil_grid(sand().flow, 2.0, {-2.0, -2.5}, 9.0, 5.0, 0.1), sand().terramechanics);
+    FAIL() << "a 0.5 m grid cannot hold the bucket's automaton";
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("skidsteer.params.xml"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("<interior>"), std::string::npos) << msg;
+  }
+  EXPECT_EQ(w.terrain(), nullptr);
+  EXPECT_EQ(w.material(), nullptr);
+  vehicle::LoaderControls c;
+  run_for(w, c, 0.2);
+  EXPECT_TRUE(w.events().finite);
+  w.add_soil_site(engine::flat_soil_grid(sand().flow, 10.0, {-2.0, -2.5}, 9.0, 5.0, 0.1), sand().terramechanics);
+  run_for(w, c, 0.2);
+  EXPECT_NE(w.bucket_material(), nullptr);
+}
+
 // Hard cases: driving on into a 0.5 m bank with a full bucket, dumping from
 // full height, curling hard back and forth while full. Finite, conserved,
 // and the bucket never holds more than its heap.

@@ -239,6 +239,36 @@ TEST(BodyAutomaton, TruckBedHoldsThenSpillsOverItsSides) {
   EXPECT_TRUE(ground.ledger().balanced());
 }
 
+// A parcel that finds the list full lands straight below at once: on a
+// tray under it, not through it (review: it had skipped every body).
+TEST(BodyAutomaton, ParcelsLandedAtOnceStillFindTheTrayBelow) {
+  const double d = 0.05;
+  BodyAutomaton plate(flat_plate(0.5), SoilFlowParameters{}, d, kDt);
+  ContainerShape tray_shape = flat_plate(2.0);
+  tray_shape.back_height_m = tray_shape.side_height_back_m = tray_shape.side_height_front_m =
+      tray_shape.front_height_m = 0.3;
+  BodyAutomaton tray(tray_shape, SoilFlowParameters{}, d, kDt);
+  MaterialExchange ex(nullptr, kDt, 1);  // room for one parcel
+  ex.add_body(&plate);
+  ex.add_body(&tray);
+  Eigen::Isometry3d tray_pose = Eigen::Isometry3d::Identity();
+  tray_pose.translation() = Eigen::Vector3d(-1.0, -1.0, 0.5);
+  tray.set_pose(tray_pose, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  testing::fill_to(plate, 0.05);
+  const std::int64_t total = ex.total_quanta();
+  // Tipped past the vertical over the tray: it sheds all it holds at once.
+  testing::pose_about_front(plate, Eigen::Vector3d(0.25, 0, 1.5), 1.7);
+  for (int s = 0; s < 500; ++s) {
+    plate.grid().step();
+    tray.grid().step();
+    ex.step();
+    ASSERT_EQ(ex.total_quanta(), total);
+  }
+  EXPECT_GT(ex.stats().parcels_forced, 0) << "the test must fill the parcel list";
+  EXPECT_EQ(ex.on_firm_ground_quanta(), 0);
+  EXPECT_EQ(tray.grid().total_quanta() + ex.in_flight_quanta(), total);
+}
+
 // (6.3.3) Soil heaped against a low container's edge above its base flows
 // in: the ground cell takes the border cell as its neighbour.
 TEST(BodyAutomaton, GroundHigherThanTheRimFlowsIn) {

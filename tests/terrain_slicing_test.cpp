@@ -72,6 +72,32 @@ TEST_P(SliceCellSizes, EdgeSlicesTheSweptSoilAndPushesNoWedge) {
   EXPECT_EQ(pushed.sliced_m3, 0.0);
 }
 
+// An edge slices only moving forward: dragged backwards it pushes like any
+// body, and nothing leaves the ground (review: a bucket backing up had
+// sliced soil into the bucket).
+TEST(Slicing, EdgeDraggedBackwardsDoesNotSlice) {
+  GranularGrid g = testing::flat_site(20.0, 3.0, 0.3);
+  SoilContactModel soil(g, SoilMechanics{});
+  soil.set_slicing(0, true, Eigen::Vector2d::UnitX());
+  OrientedBox plate;
+  plate.half_extents_m = Eigen::Vector3d(0.25, 0.5, 0.02);
+  plate.centre_m = Eigen::Vector3d(2.4, 1.525, 0.12);
+  BodyMotion motion;
+  for (const Eigen::Vector3d& velocity : {Eigen::Vector3d(-0.5, 0, 0), Eigen::Vector3d(0, 0.5, 0)}) {
+    motion.linear_velocity_m_s = velocity;
+    std::int64_t sliced = 0;
+    for (int s = 0; s < 400; ++s) {
+      plate.centre_m += velocity * kDt;
+      motion.reference_point_m = plate.centre_m;
+      soil.interact(0, plate, motion);
+      for (const SoilContactModel::SlicedCell& c : soil.sliced(0)) sliced += c.quanta;
+      g.step();
+    }
+    EXPECT_EQ(sliced, 0) << velocity.transpose();
+  }
+  EXPECT_EQ(g.ledger().exported, 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(TwoCellSizes, SliceCellSizes, ::testing::Values(0.05, 0.025));
 
 }  // namespace
