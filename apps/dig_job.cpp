@@ -64,8 +64,8 @@ double phase_limit_s(Phase p) {
     case Phase::kTurn: return 10.0;
     case Phase::kApproach: return 8.0;
     case Phase::kRaise: return 4.0;
-    case Phase::kDump: return 4.0;
-    case Phase::kBackOff: return 1.5;
+    case Phase::kDump: return 6.0;
+    case Phase::kBackOff: return 4.0;
     default: return 4.0;
   }
 }
@@ -74,7 +74,11 @@ struct Operator {
   Phase phase = Phase::kFill;
   double phase_start_s = 0.0;
   double fill_end_x = 0.0;
+  double dump_x = 0.0;
   double slow_since_s = -1.0;
+  double check_kg = 0.0, check_s = 0.0;  // the dump's progress, sampled every 0.5 s
+  double tipped_since_s = -1.0;          // the bucket at its full tip since
+  std::vector<std::string> timed_out;  // phases that ended on their time limit, not their goal
 };
 
 double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->grid().world_up().x()); }
@@ -100,7 +104,8 @@ vehicle::LoaderControls operate(Operator& op, const engine::World& w, double hea
   const double t = w.time_s(), in_phase = t - op.phase_start_s;
   const Eigen::Vector3d chassis = w.loader().link_pose(0).translation();
   const double speed = w.loader().chassis_velocity().head<2>().norm();
-  bool done = in_phase > phase_limit_s(op.phase);
+  const bool out_of_time = in_phase > phase_limit_s(op.phase);
+  bool done = false;
   switch (op.phase) {
     case Phase::kFill:  // into the bank, bucket level on the ground, until full or stopped
       c.drive_left = c.drive_right = 0.4;
@@ -111,60 +116,87 @@ vehicle::LoaderControls operate(Operator& op, const engine::World& w, double hea
       } else {
         op.slow_since_s = -1.0;
       }
-      done = done || w.bucket_material()->material_mass_kg() > 0.9 * heaped_kg ||
-             (op.slow_since_s >= 0.0 && t - op.slow_since_s > 0.5);
-      if (done) op.fill_end_x = chassis.x();
+      // Full, stopped by the bank, or at the bank's far end.
+      done = w.bucket_material()->material_mass_kg() > 0.9 * heaped_kg ||
+             (op.slow_since_s >= 0.0 && t - op.slow_since_s > 0.5) || lip(w).x() > kSiteX0 + kSiteLength - 0.5;
+      if (done || out_of_time) op.fill_end_x = chassis.x();
       break;
     case Phase::kCurl:  // break out: curl back while still pushing
       c.drive_left = c.drive_right = 0.15;
       c.tilt = tilt_to(w, 0.35);
-      done = done || bucket_pitch(w) > 0.3;
+      done = bucket_pitch(w) > 0.3;
       break;
-    case Phase::kBackOut:  // reverse 1.5 m raising the arm to 0.9 rad, bucket rolled back
-      c.drive_left = c.drive_right = -0.5;
+    case Phase::kBackOut: {  // reverse 1.5 m raising the arm to 0.9 rad, bucket rolled back
+      const bool backed = chassis.x() < op.fill_end_x - 1.5;
+      c.drive_left = c.drive_right = backed ? 0.0 : -0.5;
       c.lift = lift_to(w, 0.9);
       c.tilt = tilt_to(w, 0.3);
-      done = done || (chassis.x() < op.fill_end_x - 1.5 && w.loader().joint_angle(0) > 0.85);
+      done = backed && speed < 0.05 && w.loader().joint_angle(0) > 0.85;
       break;
+    }
     case Phase::kTurn: {  // pivot to face -x
       const double e = wrap(kPi - heading(w));
       c.drive_left = std::clamp(-1.5 * e, -0.6, 0.6);
       c.drive_right = -c.drive_left;
       c.lift = lift_to(w, 0.9);
       c.tilt = tilt_to(w, 0.3);
-      done = done || (std::abs(e) < 0.03 && std::abs(w.loader().chassis_angular_velocity().z()) < 0.05);
+      done = std::abs(e) < 0.03 && std::abs(w.loader().chassis_angular_velocity().z()) < 0.05;
       break;
     }
-    case Phase::kApproach: {  // to the truck, the lip 0.8 m over its near wall (raising and
+    case Phase::kApproach: {  // to the truck, the lip 1.1 m over its near wall (raising and
                               // tipping the bucket swing the lip back towards the machine)
       const double e = wrap(kPi - heading(w));
       c.drive_left = 0.3 - std::clamp(1.0 * e, -0.2, 0.2);
       c.drive_right = 0.3 + std::clamp(1.0 * e, -0.2, 0.2);
       c.lift = lift_to(w, 0.9);
       c.tilt = tilt_to(w, 0.3);
-      done = done || lip(w).x() < kBedX0 + kBedLength - 0.8;
+      done = lip(w).x() < kBedX0 + kBedLength - 1.1;
       break;
     }
     case Phase::kRaise:  // over the bed: raise to 1.3 rad, floor level
       c.lift = lift_to(w, 1.3);
       c.tilt = tilt_to(w, 0.1);
-      done = done || w.loader().joint_angle(0) > 1.28;
+      done = w.loader().joint_angle(0) > 1.28;
       break;
-    case Phase::kDump:  // tip slowly to 57 deg nose-down
+    case Phase::kDump:  // tip at 60 % lever to 57 deg nose-down until the bucket is empty
       c.lift = lift_to(w, 1.3);
-      c.tilt = tilt_to(w, -1.0, 0.3);
+      c.tilt = tilt_to(w, -1.0, 0.6);
+      // Empty, or at the full tip with nothing more coming out (what clings
+      // in the heel stays).
+      {
+        const double kg = w.bucket_material()->material_mass_kg();
+        if (bucket_pitch(w) < -0.95) {
+          if (op.tipped_since_s < 0.0) op.tipped_since_s = t;
+        } else {
+          op.tipped_since_s = -1.0;
+        }
+        if (t - op.check_s >= 0.5) {
+          const bool stalled = op.tipped_since_s >= 0.0 && t - op.tipped_since_s > 1.5 &&
+                               op.check_kg - kg < 0.01 * heaped_kg;
+          done = kg < 0.02 * heaped_kg || stalled;
+          op.check_kg = kg;
+          op.check_s = t;
+        }
+      }
+      op.dump_x = chassis.x();
       break;
-    case Phase::kBackOff:
+    case Phase::kBackOff:  // 1 m back (away from the truck), bucket curled
       c.tilt = tilt_to(w, 0.3);
       c.drive_left = c.drive_right = -0.4;
+      done = chassis.x() > op.dump_x + 1.0;
       break;
     case Phase::kSettle:
       c.parking_brake = true;
-      done = done || (w.material()->parcels().empty() && w.terrain()->at_rest() && w.tray(0).grid().at_rest());
+      done = in_phase > 1.0 && w.material()->parcels().empty();
       break;
     case Phase::kDone:
       c.parking_brake = true;
       break;
+  }
+  if (out_of_time && !done && op.phase != Phase::kDone) {
+    op.timed_out.push_back(phase_name(op.phase));
+    if (op.phase == Phase::kFill) op.fill_end_x = chassis.x();
+    done = true;
   }
   if (done && op.phase != Phase::kDone) {
     op.phase = static_cast<Phase>(static_cast<int>(op.phase) + 1);
@@ -258,7 +290,8 @@ int run_dig_job(const DigJob& job) {
       {"truck_bed", {{"x_m", {kBedX0, kBedX0 + kBedLength}}, {"width_m", kBedWidth}, {"floor_z_m", kBedFloor},
                      {"wall_m", kBedWall}}},
       {"result",
-       {{"completed", op.phase == Phase::kDone},
+       {{"completed", op.phase == Phase::kDone && op.timed_out.empty()},
+        {"timed_out_phases", op.timed_out},
         {"sliced_kg", st.quanta_sliced * q},
         {"bucket_full_kg", bucket_full_kg},
         {"bucket_at_truck_kg", carried_kg},
@@ -288,7 +321,9 @@ int run_dig_job(const DigJob& job) {
   run_dir.commit();
   std::cout << "dig: filled " << bucket_full_kg << " kg from the bank, carried " << carried_kg << " kg to the truck, "
             << truck_kg << " kg in the truck bed after " << sim_s << " s ("
-            << (op.phase == Phase::kDone ? "done" : "stopped at the time limit") << "); material "
+            << (op.phase == Phase::kDone && op.timed_out.empty() ? "every phase reached its goal"
+                                                                  : "some phases ran out of time, see summary.json")
+            << "); material "
             << (conserved ? "conserved exactly" : "NOT conserved") << "\nwrote " << job.out_dir
             << "/summary.json, phases.csv and the terrain and truck height maps\n";
   return conserved && world.events().finite ? 0 : 1;

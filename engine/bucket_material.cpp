@@ -44,7 +44,12 @@ void update_bucket_load(BucketMaterial& b, double gravity_m_s2) {
       const double load = b.loads_N[static_cast<std::size_t>(g.index(i, j))];
       if (load == 0.0) continue;
       total += load;
-      moment += load * Eigen::Vector3d((i + 0.5) * d, (j + 0.5) * d, g.base_m(i, j));
+      // A cell's base load acts on the vertical through the middle of its
+      // column: with the bucket tilted, the resultant then passes (nearly)
+      // through the load's centre of mass, as it must for a load at rest on
+      // a rigid body; through the base points it would miss it by h sin(tilt)
+      // (a 14 % moment error carrying at 20 deg, found in review).
+      moment += load * Eigen::Vector3d((i + 0.5) * d, (j + 0.5) * d, g.base_m(i, j) + 0.5 * g.material_m(i, j));
     }
   b.weight_N = total;
   b.load_point_container_m = total > 0.0 ? Eigen::Vector3d(moment / total) : Eigen::Vector3d::Zero();

@@ -27,10 +27,10 @@ struct BucketMaterial {
   Eigen::Isometry3d link_from_container = Eigen::Isometry3d::Identity();
   terrain::LoadSpreading spreading;
   // The base loads' resultant, recomputed when the grid changes: the
-  // weight (N) and where its line of action meets the base, in the
-  // container frame.
+  // weight (N) and a point on its line of action, in the container frame.
   double weight_N = 0.0;
   Eigen::Vector3d load_point_container_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d load_point_world_m() const { return automaton->pose() * load_point_container_m; }
   std::uint64_t loads_revision = ~std::uint64_t{0};
   int steps_since_spread = 1 << 20;  // since the kernel last ran
   bool spread_stale = true;          // the material moved since

@@ -15,26 +15,37 @@ int SoilResistance::getIslandIdA() const {
   return col ? col->getIslandTag() : -1;
 }
 
-void SoilResistance::set(const terrain::BodyReaction& r, double scale, double dt_s) {
+void SoilResistance::set(const terrain::BodyReaction& r, const double wedge_scale[4], const Eigen::Vector2d& slip,
+                         double dt_s) {
   rows_ = 0;
-  const auto add = [&](const Eigen::Vector3d& p, int axis, double resist_plus_N, double resist_minus_N) {
-    if (resist_plus_N <= 0.0 && resist_minus_N <= 0.0) return;
+  // A row: the point's velocity along `direction` held at zero with an
+  // impulse in [lower, upper].
+  const auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector2d& direction, double lower_N, double upper_N) {
+    if (lower_N >= 0.0 && upper_N <= 0.0) return;
     Row& row = row_[rows_++];
     row.point = btVector3(p.x(), p.y(), p.z());
-    row.direction = btVector3(0, 0, 0);
-    row.direction[axis] = 1.0;
-    // A negative impulse resists motion towards +axis (the wedge ahead on
-    // that side), a positive one motion towards -axis.
-    row.lower = -scale * resist_plus_N * dt_s;
-    row.upper = scale * resist_minus_N * dt_s;
+    row.direction = btVector3(direction.x(), direction.y(), 0.0);
+    row.lower = lower_N * dt_s;
+    row.upper = upper_N * dt_s;
   };
-  for (int axis = 0; axis < 2; ++axis) {
-    const terrain::WedgeReaction& plus = r.wedge[static_cast<size_t>(2 * axis)];
-    const terrain::WedgeReaction& minus = r.wedge[static_cast<size_t>(2 * axis + 1)];
-    // One row per axis, at the point of the stronger wedge.
-    add(plus.bound_N >= minus.bound_N ? plus.point_m : minus.point_m, axis, plus.bound_N, minus.bound_N);
+  // Each wedge on its own side, at its own point, one way only: the wedge
+  // ahead of a +x interface resists motion towards +x (a negative impulse
+  // along +x), never pulls.
+  static const Eigen::Vector2d kAxis[4] = {Eigen::Vector2d::UnitX(), -Eigen::Vector2d::UnitX(), Eigen::Vector2d::UnitY(),
+                                           -Eigen::Vector2d::UnitY()};
+  for (int f = 0; f < 4; ++f) {
+    const terrain::WedgeReaction& w = r.wedge[static_cast<size_t>(f)];
+    if (w.bound_N > 0.0) add(w.point_m, kAxis[f], -wedge_scale[f] * w.bound_N, 0.0);
   }
-  for (int axis = 0; axis < 2; ++axis) add(r.shear_point_m, axis, r.shear_bound_N, r.shear_bound_N);
+  // Mohr-Coulomb: against the slip and across it (as Bullet's own friction
+  // pairs its rows), each up to the bound.
+  if (r.shear_bound_N > 0.0) {
+    const double speed = slip.norm();
+    const Eigen::Vector2d along = speed > 1e-9 ? Eigen::Vector2d(slip / speed) : Eigen::Vector2d::UnitX();
+    const Eigen::Vector2d across(-along.y(), along.x());
+    add(r.shear_point_m, along, -r.shear_bound_N, r.shear_bound_N);
+    add(r.shear_point_m, across, -r.shear_bound_N, r.shear_bound_N);
+  }
 }
 
 void SoilResistance::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,

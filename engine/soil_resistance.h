@@ -21,9 +21,12 @@ class SoilResistance : public btMultiBodyConstraint {
   // `bullet_link` is Bullet's link index (-1 for the base).
   SoilResistance(btMultiBody* body, int bullet_link);
 
-  // This step's rows from the soil's reaction, `scale` of its bounds; `dt_s`
-  // turns the bounds into impulse limits. No rows: clear().
-  void set(const terrain::BodyReaction& r, double scale, double dt_s);
+  // This step's rows from the soil's reaction; `dt_s` turns the bounds into
+  // impulse limits. `wedge_scale[f]` scales the wedge towards face f (+x,
+  // -x, +y, -y); `slip` is the horizontal velocity of the body at the
+  // shear point (the shear's first row opposes it, the second is across
+  // it). No rows: clear().
+  void set(const terrain::BodyReaction& r, const double wedge_scale[4], const Eigen::Vector2d& slip, double dt_s);
   void clear() { rows_ = 0; }
 
   void finalizeMultiDof() override {}
@@ -38,7 +41,7 @@ class SoilResistance : public btMultiBodyConstraint {
     btVector3 point, direction;
     double lower = 0.0, upper = 0.0;  // impulse along `direction`
   };
-  static constexpr int kMaxRows = 4;
+  static constexpr int kMaxRows = 6;  // a wedge each way, shear along and across the slip
   Row row_[kMaxRows];
   int rows_ = 0;
 };

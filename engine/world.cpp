@@ -218,7 +218,6 @@ void World::build_material(std::unique_ptr<terrain::BodyAutomaton> bucket) {
   bucket_.spreading.block_height_cells = in.spreading_block_cells;
   bucket_.exchange_index = exchange_->add_body(bucket_.automaton.get());
   terrain::CuttingEdge edge;
-  edge.mouth_height_m = in.mouth_height_m;
   edge.capacity_m3 = in.heaped_volume_m3;
   edge.filling_angle_drop_deg = in.filling_angle_drop_deg;
   exchange_->set_cutting_edge(bucket_.exchange_index, edge);
@@ -361,10 +360,8 @@ void World::soil_on_machine() {
     motion.angular_velocity_rad_s = w;
     const int id = static_cast<int>(d.wheels.size() + k);
     const bool slicing = lb.cutting && exchange_->mouth_open(bucket_.exchange_index);
-    if (lb.cutting) {
-      Eigen::Vector3d forward = lb.shape.orientation * Eigen::Vector3d::UnitX();  // towards the edge
-      soil_->set_slicing(id, slicing, forward.head<2>());
-    }
+    const Eigen::Vector2d forward = (lb.shape.orientation * Eigen::Vector3d::UnitX()).head<2>();  // towards the edge
+    if (lb.cutting) soil_->set_slicing(id, slicing, forward);
     const terrain::BodyReaction r =
         soil_on_body(id, lb.shape, motion, highest_soil_under(lb.shape.world_bounds()), true);
     if (lb.cutting && body_in_soil_[static_cast<size_t>(id)])
@@ -376,11 +373,18 @@ void World::soil_on_machine() {
     loader_->add_wrench(lb.link, r.force_N - r.base_force_N, r.torque_Nm - r.base_torque_Nm, lb.shape.centre_m);
     // The wedges and shear hold the link up to their bounds (a Bullet
     // constraint). A slicing edge meets no fracture wedge (6.4); what
-    // resists it is the load it drives into the bucket, which the material
-    // already there must make room for: the wedge limit scaled by how full
-    // the bucket is (an empty bucket slices freely, a struck-full one pushes
-    // like a blade).
-    resistance.set(r, slicing ? bucket_fill_fraction() : 1.0, kStepSeconds);
+    // resists it moving forward is the cutting itself and the load it
+    // drives into the bucket, which the material already there must make
+    // room for: the wedge limit ahead scaled from `edge_resistance` (empty)
+    // to 1 (struck full, pushing like a blade). Other ways it is a blade.
+    double wedge_scale[4] = {1.0, 1.0, 1.0, 1.0};
+    if (slicing) {
+      const double cut = std::max(d.bucket_interior.edge_resistance, bucket_fill_fraction());
+      static constexpr double kFaceDir[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      for (int f = 0; f < 4; ++f)
+        if (kFaceDir[f][0] * forward.x() + kFaceDir[f][1] * forward.y() > 0.3 * forward.norm()) wedge_scale[f] = cut;
+    }
+    resistance.set(r, wedge_scale, motion.velocity_at(r.shear_point_m).head<2>(), kStepSeconds);
   }
 }
 
@@ -391,8 +395,7 @@ void World::step(const vehicle::LoaderControls& controls) {
     // of the last step).
     update_bucket_load(bucket_, 9.81);
     if (bucket_.weight_N > 0.0)
-      loader_->add_force(bucket_.link, Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N),
-                         bucket_.automaton->pose() * bucket_.load_point_container_m);
+      loader_->add_force(bucket_.link, Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N), bucket_.load_point_world_m());
   }
   if (grid_) soil_on_machine();
   loader_->pre_step(controls, kStepSeconds, grid_ ? soft_.data() : nullptr);

@@ -95,8 +95,10 @@ class World {
   int tray_count() const { return static_cast<int>(trays_.size()); }
   terrain::MaterialExchange* material() { return exchange_.get(); }
   const terrain::MaterialExchange* material() const { return exchange_.get(); }
-  // The load the bucket's material puts on it this step (N, its weight).
+  // The load the bucket's material puts on it this step (N, its weight) and
+  // a point on its (vertical) line of action.
   double bucket_load_N() const { return bucket_.weight_N; }
+  Eigen::Vector3d bucket_load_point_m() const { return bucket_.load_point_world_m(); }
 
   // Stability events, first time seen (-1: not yet): the rear wheels lose
   // all load (the machine is tipping forward), the chassis leans past 45 deg.

@@ -331,8 +331,8 @@ void read_bucket_interior(LoaderDescription& d, const std::string& path, const t
     } else if (name == "filling") {
       if (have_filling) a.fail("appears twice");
       have_filling = true;
-      in.mouth_height_m = a.number_in("mouth_height_m", 0.01, 5.0);
       in.heaped_volume_m3 = a.number_in("heaped_volume_m3", 0.001, 50.0);
+      in.edge_resistance = a.number_in("edge_resistance", 0.0, 1.0);
       in.filling_angle_drop_deg = a.number_in("angle_drop_deg", 0.0, 30.0);
       in.spreading_eps = a.number_in("spreading_eps", 0.0, 0.5);
       in.spreading_block_cells = a.number_in("block_height_cells", 0.25, 8.0);

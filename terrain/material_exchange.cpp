@@ -56,9 +56,8 @@ int MaterialExchange::add_body(BodyAutomaton* body) {
 }
 
 void MaterialExchange::set_cutting_edge(int k, const CuttingEdge& edge) {
-  if (!(edge.mouth_height_m > 0.0 && edge.capacity_m3 > 0.0 && edge.filling_angle_drop_deg >= 0.0 &&
-        edge.filling_hold_s >= 0.0))
-    throw std::invalid_argument("cutting edge: mouth_height_m and capacity_m3 must be > 0, the angle drop and hold >= 0");
+  if (!(edge.capacity_m3 > 0.0 && edge.filling_angle_drop_deg >= 0.0 && edge.filling_hold_s >= 0.0))
+    throw std::invalid_argument("cutting edge: capacity_m3 must be > 0, the angle drop and hold >= 0");
   Body& b = bodies_.at(static_cast<std::size_t>(k));
   b.cutting = true;
   b.edge = edge;
@@ -83,14 +82,6 @@ void MaterialExchange::add_sliced(int k, int ground_cell, std::int64_t quanta) {
   b.slice_total += quanta;
   b.since_slice_s = 0.0;
   stats_.quanta_sliced += quanta;
-}
-
-bool MaterialExchange::mouth_open(int k) const {
-  const Body& b = bodies_[static_cast<std::size_t>(k)];
-  const GranularGrid& g = b.automaton->grid();
-  double total = 0.0;
-  for (int j = 0; j < g.ny(); ++j) total += g.material_m(g.nx() - 1, j);
-  return total / g.ny() < b.edge.mouth_height_m && g.total_volume_m3() < b.edge.capacity_m3;
 }
 
 void MaterialExchange::step() {
@@ -173,7 +164,11 @@ void MaterialExchange::flow_over_edges(int k) {
   // reached the border cell's base, the ground cell takes the border cell as
   // its neighbour: it sends material up by the ground's rule, towards the
   // border cell's surface.
-  BodyAutomaton& a = *bodies_[static_cast<std::size_t>(k)].automaton;
+  const Body& body = bodies_[static_cast<std::size_t>(k)];
+  // A full bucket takes nothing more over its rims: what stands above it
+  // is pushed, and what runs onto the heap runs off again.
+  const bool takes_more = !(body.cutting && body.choked);
+  BodyAutomaton& a = *body.automaton;
   GranularGrid& g = a.grid();
   const FlowLaw& law = ground_->flow_law();
   const double d = ground_->cell_size_m();
@@ -190,6 +185,7 @@ void MaterialExchange::flow_over_edges(int k) {
     // runs out over the edge into soil standing higher.
     const double up_z = g.world_up().z();
     if (up_z > 0.087) g.set_edge_neighbour_height(slot, g.base_m(i, j) + (ground_surface - at.z()) / up_z);
+    if (!takes_more) continue;
     const double upper_surface = a.surface_world_z(i, j);
     const double rise = ground_surface - upper_surface;
     if (rise <= 0.0) continue;
@@ -214,6 +210,9 @@ void MaterialExchange::feed_frontier(int k) {
   const double d = g.cell_size_m();
   b.since_slice_s += dt_s_;
   b.since_filling_s += dt_s_;
+  const double volume = g.total_volume_m3();
+  if (!b.choked && volume >= b.edge.capacity_m3) b.choked = true;
+  if (b.choked && volume < CuttingEdge::kReopenFraction * b.edge.capacity_m3) b.choked = false;
   Eigen::Vector3d forward = a.pose().linear().col(0);
   forward.z() = 0.0;
   if (forward.norm() > 1e-6) {

@@ -37,11 +37,11 @@ struct FallingParcel {
 // The cutting edge of a bucket-like body: its frontier row is the grid's
 // last (i = nx - 1), facing +x.
 struct CuttingEdge {
-  // The mouth is choked (the edge stops slicing and pushes like any body)
-  // when the material over the frontier row stands this high on average.
-  double mouth_height_m = 0.30;
-  // It chokes as well once it holds its heaped capacity (m^3).
+  // The mouth chokes (the edge stops slicing and pushes like any body) once
+  // the body holds its heaped capacity (m^3), and opens again below
+  // kReopenFraction of it (no chatter between slicing and pushing).
   double capacity_m3 = 1e9;
+  static constexpr double kReopenFraction = 0.9;
   // Repose and stop angles drop by this much while material slides in
   // (6.4.2: the vibration of filling).
   double filling_angle_drop_deg = 8.0;
@@ -82,7 +82,7 @@ class MaterialExchange {
   void add_sliced(int body, int ground_cell, std::int64_t quanta);
   // False when the body's mouth is choked: the engine then lets its edge
   // push soil instead of slicing it.
-  bool mouth_open(int body) const;
+  bool mouth_open(int body) const { return !bodies_[static_cast<std::size_t>(body)].choked; }
 
   // Once per step, after every grid has swept.
   void step();
@@ -109,6 +109,7 @@ class MaterialExchange {
     double advance_m = 0.0;                      // forward travel since the last deposit
     double since_slice_s = 1e9;
     double since_filling_s = 1e9;
+    bool choked = false;
   };
   void emit_edges(int k);
   void shed_all(int k);

@@ -180,7 +180,7 @@ TEST_F(BrokenLoader, BucketInteriorErrorsNameTheElement) {
 }
 
 TEST_F(BrokenLoader, UnknownBucketChildAndBadFillingAreRejected) {
-  replace("skidsteer.params.xml", "<filling mouth_height_m", "<filing mouth_height_m");
+  replace("skidsteer.params.xml", "<filling heaped_volume_m3", "<filing heaped_volume_m3");
   expect_error({"skidsteer.params.xml:", "<filing>", "unknown element"});
 }
 

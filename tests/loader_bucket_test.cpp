@@ -201,38 +201,50 @@ TEST(LoaderBucket, CarriesItsLoadThenDumpsItIntoAPileAtTheReposeAngle) {
 }
 
 // The load presses on the bucket and through it on the lift cylinder: the
-// same pressure as that load's weight applied at its centre.
+// same pressure as the load's weight applied at its centre of mass (computed
+// here from the cells), level and rolled back 30 deg; the line of action
+// passes within 1.5 cm of the centre of mass.
 TEST(LoaderBucket, LoadInTheBucketReachesTheLiftCylinder) {
-  const auto pressure_with = [](bool material) {
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.translation() = Eigen::Vector3d(0, 0, shipped_loader().tyre.radius_m - 0.01);
-    engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.8, 0.8);
-    w.enable_material(sand().flow, 0.05);
-    terrain::BodyAutomaton& b = *w.bucket_material();
-    for (int j = 1; j + 1 < b.grid().ny(); ++j)
-      for (int i = 3; i < 10; ++i) b.grid().set_material_m(i, j, 0.15);
-    vehicle::LoaderControls c;
-    run_for(w, c, 0.2);
-    // The load applied in a step is that of the material at its start.
-    const double mass_kg = b.material_mass_kg();
-    w.step(c);
-    const double weight = w.bucket_load_N();
-    EXPECT_NEAR(weight, mass_kg * 9.81, 1e-9 * weight) << "the base loads must sum to the weight";
-    const Eigen::Vector3d at = b.pose() * Eigen::Vector3d(6.5 * 0.05, 0.85, 0.0);
-    if (!material) {
+  for (const double rollback : {0.0, 0.52}) {
+    const auto run = [rollback](bool material) {
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.translation() = Eigen::Vector3d(0, 0, shipped_loader().tyre.radius_m - 0.01);
+      engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.8, 0.8 - rollback);
+      w.enable_material(sand().flow, 0.05);
+      terrain::BodyAutomaton& b = *w.bucket_material();
+      for (int j = 1; j + 1 < b.grid().ny(); ++j)
+        for (int i = 1; i < 10; ++i) b.grid().set_material_m(i, j, 0.12);
+      vehicle::LoaderControls c;
+      run_for(w, c, 1.0);  // the load settles in the tilted bucket
+      // Its centre of mass, from the cells.
+      Eigen::Vector3d com = Eigen::Vector3d::Zero();
+      double mass = 0.0;
       for (int j = 0; j < b.grid().ny(); ++j)
-        for (int i = 0; i < b.grid().nx(); ++i) b.grid().set_material_m(i, j, 0.0);
-      const int link = static_cast<int>(shipped_loader().links.size()) - 1;
-      w.set_link_load(link, Eigen::Vector3d(0, 0, -weight), w.loader().link_pose(link).inverse() * at);
-    }
-    run_for(w, c, 2.0);
-    return std::make_pair(w.loader().cylinders()[0].pressure_Pa, weight);
-  };
-  const auto [with_material, weight] = pressure_with(true);
-  const auto [with_point_load, unused] = pressure_with(false);
-  (void)unused;
-  EXPECT_GT(weight, 1200.0);
-  EXPECT_NEAR(with_material, with_point_load, 0.02 * with_point_load);
+        for (int i = 0; i < b.grid().nx(); ++i) {
+          const double m = b.grid().material_mass_kg(i, j);
+          com += m * b.world_point(i, j, b.grid().base_m(i, j) + 0.5 * b.grid().material_m(i, j));
+          mass += m;
+        }
+      com /= mass;
+      w.step(c);
+      const double weight = w.bucket_load_N();
+      EXPECT_NEAR(weight, mass * 9.81, 1e-9 * weight) << "the base loads must sum to the weight";
+      EXPECT_LT((w.bucket_load_point_m() - com).head<2>().norm(), 0.015) << "rollback " << rollback;
+      if (!material) {
+        for (int j = 0; j < b.grid().ny(); ++j)
+          for (int i = 0; i < b.grid().nx(); ++i) b.grid().set_material_m(i, j, 0.0);
+        const int link = static_cast<int>(shipped_loader().links.size()) - 1;
+        w.set_link_load(link, Eigen::Vector3d(0, 0, -weight), w.loader().link_pose(link).inverse() * com);
+      }
+      run_for(w, c, 2.0);
+      return std::make_pair(w.loader().cylinders()[0].pressure_Pa, weight);
+    };
+    const auto [with_material, weight] = run(true);
+    const auto [with_point_load, unused] = run(false);
+    (void)unused;
+    EXPECT_GT(weight, 1000.0);
+    EXPECT_NEAR(with_material, with_point_load, 0.02 * with_point_load) << "rollback " << rollback;
+  }
 }
 
 // A truck bed under the raised bucket holds a load; overfilled, it spills

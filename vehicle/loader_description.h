@@ -143,11 +143,12 @@ struct BucketInterior {
   double cutting_edge_length_m = 0.25;  // the strip of floor behind the edge that rides the cut
   double bottom_clearance_rad = 0.14;   // its bottom's rise towards the heel
   // Filling (6.4.2): the mouth chokes (the edge pushes instead of slicing)
-  // when the material over the frontier row stands this high; the repose
-  // angle on the bucket drops while material slides in.
-  double mouth_height_m = 0.30;
-  double heaped_volume_m3 = 0.38;  // it chokes, too, once it holds this much
+  // once the bucket holds its heaped capacity; the repose angle on the
+  // bucket drops while material slides in; an empty bucket's slicing edge
+  // meets this share of the blade's wedge, a full one all of it.
+  double heaped_volume_m3 = 0.38;
   double filling_angle_drop_deg = 8.0;
+  double edge_resistance = 0.2;
   // The load-spreading kernel (6.5) for the load on the bucket.
   double spreading_eps = 0.4;
   double spreading_block_cells = 1.5;
