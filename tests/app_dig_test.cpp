@@ -30,7 +30,8 @@ TEST(SkidsimDig, FillsCarriesAndDumpsIntoTheTruck) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
   const nlohmann::json& result = summary["result"];
-  EXPECT_TRUE(result["completed"].get<bool>());
+  EXPECT_TRUE(result["completed"].get<bool>()) << "every phase must reach its goal";
+  EXPECT_TRUE(result["timed_out_phases"].empty()) << result["timed_out_phases"].dump();
   EXPECT_TRUE(result["material_conserved_every_step"].get<bool>());
   EXPECT_TRUE(result["machine_finite"].get<bool>());
   EXPECT_FALSE(result["tipped_over"].get<bool>());

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -163,7 +164,9 @@ TEST(LoaderBucket, CarriesItsLoadThenDumpsItIntoAPileAtTheReposeAngle) {
     c = {};
     c.lift = w->loader().joint_angle(0) < 1.0 ? 1.0 : 0.0;
     hold_pitch(*w, 0.35, c);
-    if (s > 1500 && w->loader().link_pose(0).translation().x() > 1.0) c.drive_left = c.drive_right = -0.4;
+    // Back far enough that the dump lands before the strip (the lip is
+    // about 2.2 m ahead of the chassis).
+    if (s > 1500 && w->loader().link_pose(0).translation().x() > -0.8) c.drive_left = c.drive_right = -0.4;
     w->step(c);
     books.check(*w);
   }
@@ -185,18 +188,29 @@ TEST(LoaderBucket, CarriesItsLoadThenDumpsItIntoAPileAtTheReposeAngle) {
   terrain::GranularGrid& g = *w->terrain();
   for (int s = 0; s < 20000 && !g.at_rest(); ++s) g.step();
   ASSERT_TRUE(g.at_rest());
+  // The dump's pile (the strip's remains left out): its flank's median
+  // slope, over the cells between a fifth and four fifths of its peak.
   double worst = 0.0, peak = 0.0;
+  const auto in_dump = [&](int i) { return g.spec().origin_m.x() + i * g.cell_size_m() < kStripStart - 0.2; };
   for (int j = 0; j < g.ny(); ++j)
-    for (int i = 0; i < g.nx(); ++i) {
-      const double x = g.spec().origin_m.x() + i * g.cell_size_m();
-      if (x > kStripStart - 0.2) continue;  // the dump, not the strip's remains
-      worst = std::max(worst, g.downhill_slope_tan(i, j));
-      peak = std::max(peak, g.material_m(i, j));
-    }
-  const double worst_deg = std::atan(worst) * 180.0 / kPi;
-  EXPECT_GT(peak, 0.05) << "the load must form a pile";
+    for (int i = 0; i < g.nx(); ++i)
+      if (in_dump(i)) {
+        worst = std::max(worst, g.downhill_slope_tan(i, j));
+        peak = std::max(peak, g.material_m(i, j));
+      }
+  std::vector<double> flank;
+  for (int j = 0; j < g.ny(); ++j)
+    for (int i = 0; i < g.nx(); ++i)
+      if (in_dump(i) && g.material_m(i, j) > 0.2 * peak && g.material_m(i, j) < 0.8 * peak)
+        flank.push_back(std::atan(g.downhill_slope_tan(i, j)) * 180.0 / kPi);
+  ASSERT_FALSE(flank.empty());
+  std::nth_element(flank.begin(), flank.begin() + flank.size() / 2, flank.end());
+  const double worst_deg = std::atan(worst) * 180.0 / kPi, flank_deg = flank[flank.size() / 2];
+  EXPECT_GT(peak, 0.1) << "the load must form a pile";
   EXPECT_LE(worst_deg, sand().flow.repose_angle_deg + 0.1);
-  EXPECT_GE(worst_deg, sand().flow.stop_angle_deg - 3.0) << "its flanks must stand near the repose angle";
+  EXPECT_GE(flank_deg, sand().flow.stop_angle_deg - 4.0) << "its flanks must stand near the repose angle";
+  std::printf("[ measured ] dumped from the raised bucket: flank (median) %.1f deg, steepest %.1f deg, peak %.2f m\n",
+              flank_deg, worst_deg, peak);
   EXPECT_TRUE(w->events().finite);
 }
 
@@ -346,6 +360,7 @@ TEST(LoaderBucket, BackingUpWithTheBucketDownDoesNotFillIt) {
   }
   const std::int64_t sliced_forward = w->material()->stats().quanta_sliced;
   EXPECT_GT(sliced_forward, 0);
+  const double in_bucket = bucket_kg(*w);
   for (int s = 0; s < 1500; ++s) {
     c = {};
     c.drive_left = c.drive_right = -0.5;
@@ -353,6 +368,7 @@ TEST(LoaderBucket, BackingUpWithTheBucketDownDoesNotFillIt) {
   }
   EXPECT_EQ(w->material()->stats().quanta_sliced, sliced_forward) << "reversing must not slice";
   EXPECT_EQ(w->material()->held_slice_quanta(), 0);
+  EXPECT_LE(bucket_kg(*w), in_bucket + 1e-9) << "nor fill the bucket any other way";
 }
 
 // A machine gone non-finite is reported, not thrown (review: the bucket's
@@ -407,7 +423,7 @@ TEST(LoaderBucket, HardCasesStayFiniteAndConserveMaterial) {
     most = std::max(most, bucket_kg(*w));
   }
   EXPECT_GT(most, 0.8 * heaped_kg) << "driven into a bank, the bucket must fill";
-  EXPECT_LT(std::abs(w->loader().chassis_velocity().x()), 0.3) << "the bank must stop the machine";
+  EXPECT_LT(std::abs(w->loader().chassis_velocity().x()), 0.05) << "the bank must stop the machine";
   // Out of the bank, rolled back and raised: what was heaped over the
   // plates while buried falls off; the bucket carries its heap.
   for (int s = 0; s < 2000; ++s) {

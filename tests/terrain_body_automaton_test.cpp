@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "body_automaton_support.h"
 #include "terrain/body_automaton.h"
@@ -146,7 +147,8 @@ TEST_P(BodyCellSizes, DumpedLoadFormsAPileAtTheReposeAngle) {
   ASSERT_TRUE(ex.parcels().empty());
   const std::int64_t load = bucket.grid().total_quanta();
   ASSERT_GT(load * ex.quantum_mass_kg(), 300.0) << "the bucket must carry a real load";
-  // Carried rolled back at 2 m/s for 2 s: it keeps its load.
+  // Carried rolled back for 2 s (travelling at 2 m/s: the parcels would
+  // carry that speed; the automaton has no inertia): it keeps its load.
   const std::int64_t spawned = ex.stats().parcels_spawned;
   for (int s = 0; s < 1000; ++s) {
     testing::pose_about_front(bucket, lip, -0.3, 0.0, Eigen::Vector3d(2.0, 0, 0));
@@ -157,10 +159,16 @@ TEST_P(BodyCellSizes, DumpedLoadFormsAPileAtTheReposeAngle) {
   EXPECT_EQ(bucket.grid().total_quanta(), load);
   const std::int64_t total = ex.total_quanta();
   const std::int64_t ground_before = ground.total_quanta();
-  // Dump: the bucket turns nose-down at 0.8 rad/s to 100 deg, then waits.
+  // Dump: the bucket turns nose-down at 0.8 rad/s to 60 deg and holds
+  // there 2 s (the avalanches empty it, long before shedding at 85 deg
+  // would), then on to 100 deg.
   double pitch = -0.3;
   for (int s = 0; s < 6000; ++s) {
-    const double rate = pitch < 100.0 * kDeg ? 0.8 : 0.0;
+    if (s == 2500) {
+      EXPECT_LT(bucket.grid().total_quanta(), load / 20) << "held at 60 deg the load must slide out";
+      EXPECT_EQ(ex.stats().quanta_shed, 0);
+    }
+    const double rate = (pitch < 60.0 * kDeg || (s > 2500 && pitch < 100.0 * kDeg)) ? 0.8 : 0.0;
     pitch += rate * kDt;
     testing::pose_about_front(bucket, lip, pitch, rate);
     bucket.grid().step();
@@ -180,7 +188,10 @@ TEST_P(BodyCellSizes, DumpedLoadFormsAPileAtTheReposeAngle) {
   EXPECT_GT(peak, 0.15) << "the load must form a pile, not a film";
   const double max_slope_deg = testing::max_slope_deg(ground);
   EXPECT_LE(max_slope_deg, soil.repose_angle_deg + testing::kRestSlopeToleranceDeg);
-  EXPECT_GE(max_slope_deg, soil.stop_angle_deg - 3.0) << "the flanks must stand near the repose angle";
+  const double flank_deg = testing::median_flank_slope_deg(ground);
+  EXPECT_GE(flank_deg, soil.stop_angle_deg - 4.0) << "the flanks must stand near the repose angle";
+  std::printf("[ measured ] d = %.3f: dumped pile's flank (median) %.1f deg, steepest %.1f deg, peak %.2f m\n", d,
+              flank_deg, max_slope_deg, peak);
 }
 
 // A truck bed under a dumping bucket holds the load; overfilled, it spills
@@ -234,6 +245,9 @@ TEST(BodyAutomaton, TruckBedHoldsThenSpillsOverItsSides) {
     EXPECT_LE(in_bed, bed_capacity * 2) << "the bed holds its struck load and a heap, no more";
   }
   EXPECT_GT(ground.total_quanta(), 0) << "overfilled, the bed must spill onto the ground";
+  // Over its walls: what lies on the ground left the bed over its edges
+  // (the bucket's own spills all landed in the bed, first load above).
+  EXPECT_GE(bed.grid().ledger().exported, ground.total_quanta()) << "the spill must come over the bed's walls";
   EXPECT_GT(bed.grid().total_quanta(), bed_capacity * 3 / 4) << "overfilled, the bed must be nearly full";
   EXPECT_TRUE(bed.grid().ledger().balanced());
   EXPECT_TRUE(ground.ledger().balanced());

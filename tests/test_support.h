@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <memory>
+#include <vector>
+#include <algorithm>
 
 #include "terrain/granular_grid.h"
 
@@ -41,6 +43,24 @@ inline double max_slope_deg(const GranularGrid& g) {
   for (int j = 0; j < g.ny(); ++j)
     for (int i = 0; i < g.nx(); ++i) worst = std::max(worst, g.downhill_slope_tan(i, j));
   return std::atan(worst) * 180.0 / kPi;
+}
+
+// Median slope angle (deg) of a pile's flank: the cells whose material is
+// between a fifth and four fifths of the pile's peak. One steep cell does
+// not make a flank.
+inline double median_flank_slope_deg(const GranularGrid& g) {
+  double peak = 0.0;
+  for (int j = 0; j < g.ny(); ++j)
+    for (int i = 0; i < g.nx(); ++i) peak = std::max(peak, g.material_m(i, j));
+  std::vector<double> slopes;
+  for (int j = 0; j < g.ny(); ++j)
+    for (int i = 0; i < g.nx(); ++i) {
+      const double h = g.material_m(i, j);
+      if (h > 0.2 * peak && h < 0.8 * peak) slopes.push_back(std::atan(g.downhill_slope_tan(i, j)) * 180.0 / kPi);
+    }
+  if (slopes.empty()) return 0.0;
+  std::nth_element(slopes.begin(), slopes.begin() + slopes.size() / 2, slopes.end());
+  return slopes[slopes.size() / 2];
 }
 
 }  // namespace skidsim::terrain::testing
