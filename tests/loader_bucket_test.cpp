@@ -258,6 +258,8 @@ TEST(LoaderBucket, LoadInTheBucketReachesTheLiftCylinder) {
     (void)unused;
     EXPECT_GT(weight, 1000.0);
     EXPECT_NEAR(with_material, with_point_load, 0.02 * with_point_load) << "rollback " << rollback;
+    std::printf("[ measured ] rolled back %.0f deg, %.0f N of load: lift cylinder %.3f MPa, with the weight at its centre of mass %.3f MPa\n",
+                rollback * 180.0 / kPi, weight, with_material / 1e6, with_point_load / 1e6);
   }
 }
 

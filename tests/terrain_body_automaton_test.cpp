@@ -89,6 +89,7 @@ TEST_P(BodyCellSizes, LayerSpillsOnlyPastTheReposeAngle) {
       ASSERT_EQ(ex.total_quanta(), total);
     }
     const double kept = static_cast<double>(a.grid().total_quanta()) / static_cast<double>(level);
+    std::printf("[ measured ] d = %.3f, held at %.0f deg: kept %.1f %%\n", d, tilt_deg, 100.0 * kept);
     if (offset_deg < 0.0) {
       EXPECT_GT(kept, 0.75) << "below the stop angle the layer must stay, d = " << d;
       EXPECT_LT(kept, 0.95) << "its downhill end must slump to alpha_I in the world, d = " << d;
