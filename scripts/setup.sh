@@ -16,6 +16,7 @@ PACKAGES=(
   libbullet-dev          # the loader's multibody (double build: bullet-float64)
   liburdfdom-dev         # the loader's URDF
   libassimp-dev          # visual meshes
+  liblcm-dev liblcm-bin libglib2.0-dev  # LCM: messages, lcm-gen, lcm-logger (pkg-config lcm needs glib)
 )
 
 missing=()

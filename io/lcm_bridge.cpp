@@ -1,0 +1,57 @@
+#include "io/lcm_bridge.h"
+
+#include <stdexcept>
+
+#include "io/atomic_file.h"
+
+namespace skidsim::io {
+
+LcmBridge::LcmBridge(const std::string& url, const LcmChannels& channels, ControlInput* input)
+    : owned_(std::make_unique<lcm::LCM>(url)), lcm_(owned_.get()), channels_(channels), input_(input) {
+  if (!lcm_->good()) throw InputError("LCM provider '" + url + "' could not be opened");
+  subscribe();
+}
+
+LcmBridge::LcmBridge(lcm::LCM& lcm, const LcmChannels& channels, ControlInput* input)
+    : lcm_(&lcm), channels_(channels), input_(input) {
+  if (!lcm_->good()) throw InputError("LCM provider could not be opened");
+  subscribe();
+}
+
+LcmBridge::~LcmBridge() {
+  if (subscription_) lcm_->unsubscribe(subscription_);
+}
+
+void LcmBridge::subscribe() {
+  if (!input_) throw std::invalid_argument("LcmBridge: no ControlInput");
+  // Raw bytes: a message that does not decode is counted, not dropped
+  // silently.
+  subscription_ = lcm_->subscribe(channels_.control, &LcmBridge::on_control, this);
+}
+
+void LcmBridge::on_control(const lcm::ReceiveBuffer* buffer, const std::string&) {
+  skidsim_lcm::control_t command;
+  if (command.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0) {
+    input_->count_malformed();
+    return;
+  }
+  input_->offer(command, now_s_);
+}
+
+int LcmBridge::poll(double sim_time_s) {
+  now_s_ = sim_time_s;
+  int handled = 0;
+  while (lcm_->handleTimeout(0) > 0) ++handled;
+  return handled;
+}
+
+bool LcmBridge::wait(int timeout_ms, double sim_time_s) {
+  now_s_ = sim_time_s;
+  return lcm_->handleTimeout(timeout_ms) > 0;
+}
+
+void LcmBridge::publish_state(const skidsim_lcm::state_t& state) { lcm_->publish(channels_.state, &state); }
+
+void LcmBridge::publish_event(const skidsim_lcm::event_t& event) { lcm_->publish(channels_.events, &event); }
+
+}  // namespace skidsim::io

@@ -1,0 +1,61 @@
+// The simulator's side of LCM (EXERCISES.md, "LCM"): controls in on one
+// channel (into a ControlInput), state and events out on two others. A real
+// LCM provider: UDP multicast on this host by default
+// (udpm://239.255.76.67:7667?ttl=0), memq:// in-process for tests. Message
+// handling happens in poll(), between steps, never inside the 2 ms step.
+#pragma once
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <memory>
+#include <string>
+
+#include "io/control_input.h"
+#include "skidsim_lcm/event_t.hpp"
+#include "skidsim_lcm/state_t.hpp"
+
+namespace skidsim::io {
+
+inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+struct LcmChannels {
+  std::string control = "SKIDSIM_CONTROL";
+  std::string state = "SKIDSIM_STATE";
+  std::string events = "SKIDSIM_EVENTS";
+};
+
+class LcmBridge {
+ public:
+  // Opens the provider at `url` (throws io::InputError naming the URL when
+  // LCM cannot) and subscribes to the control channel. `input` must outlive
+  // the bridge.
+  LcmBridge(const std::string& url, const LcmChannels& channels, ControlInput* input);
+  // The same on an LCM instance the caller owns (tests publish into it).
+  LcmBridge(lcm::LCM& lcm, const LcmChannels& channels, ControlInput* input);
+  ~LcmBridge();
+  LcmBridge(const LcmBridge&) = delete;
+  LcmBridge& operator=(const LcmBridge&) = delete;
+
+  // Handles every message waiting, without blocking; commands are stamped
+  // with `sim_time_s`. Returns how many were handled.
+  int poll(double sim_time_s);
+  // Waits up to `timeout_ms` for one message (lockstep). True if one came.
+  bool wait(int timeout_ms, double sim_time_s);
+
+  void publish_state(const skidsim_lcm::state_t& state);
+  void publish_event(const skidsim_lcm::event_t& event);
+  lcm::LCM& lcm() { return *lcm_; }
+
+ private:
+  void subscribe();
+  void on_control(const lcm::ReceiveBuffer* buffer, const std::string& channel);
+
+  std::unique_ptr<lcm::LCM> owned_;
+  lcm::LCM* lcm_ = nullptr;
+  LcmChannels channels_;
+  ControlInput* input_ = nullptr;
+  lcm::Subscription* subscription_ = nullptr;
+  double now_s_ = 0.0;
+};
+
+}  // namespace skidsim::io
