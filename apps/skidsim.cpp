@@ -1,19 +1,23 @@
 // skidsim: one command, with subcommands. Thin: parse, wire, report.
 #include <CLI/CLI.hpp>
+#include <tinyxml2.h>
 #include <nlohmann/json.hpp>
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
 
-#include "apps/pour_job.h"
 #include "apps/dig_job.h"
+#include "apps/pour_job.h"
 #include "apps/push_job.h"
 #include "io/atomic_file.h"
+#include "io/exercise.h"
 #include "io/loader_files.h"
 #include "io/soil_table.h"
+#include "io/xml_reader.h"
 #include "vehicle/loader_figures.h"
 
 namespace {
@@ -76,6 +80,58 @@ int check_loader(const std::string& path, bool json) {
   for (const auto& [key, value] : j.items())
     if (key != "parameters") std::cout << "  " << key << ": " << value << "\n";
   return 0;
+}
+
+// Reads an exercise (and the loader it names), validates both, and prints
+// what the session would build, without running it.
+int check_exercise(const std::string& path, bool json) {
+  const skidsim::io::Exercise e = skidsim::io::load_exercise(path);
+  skidsim::io::load_loader(e.machine.loader);
+  nlohmann::json j;
+  j["exercise"] = e.name;
+  j["file"] = path;
+  j["time_limit_s"] = e.time_limit_s;
+  j["site_m"] = {e.site_size_m.x(), e.site_size_m.y()};
+  j["firm_ground"] = e.firm_ground;
+  nlohmann::json soils = nlohmann::json::array();
+  for (const auto& s : e.soils) {
+    const Eigen::Vector2d cells = s.region.sizes() / s.cell_m;
+    soils.push_back({{"id", s.id}, {"soil", s.soil}, {"cell_m", s.cell_m},
+                     {"cells", static_cast<long>(std::lround(cells.x())) * std::lround(cells.y())},
+                     {"piles", s.piles.size()}, {"trenches", s.trenches.size()}, {"banks", s.banks.size()}});
+  }
+  j["soil_sites"] = soils;
+  j["zones"] = e.zones.size();
+  j["boxes"] = e.boxes.size();
+  j["trucks"] = e.trucks.size();
+  j["loader"] = e.machine.loader;
+  j["operator"] = e.operator_source.kind == skidsim::io::OperatorSource::Kind::kLcm
+                      ? "lcm channel " + e.operator_source.channel
+                      : "script " + e.operator_source.script;
+  nlohmann::json tasks = nlohmann::json::array();
+  for (const auto& t : e.tasks) tasks.push_back(std::string(skidsim::io::task_type_name(t.type)) + " " + t.id);
+  j["tasks"] = tasks;
+  j["events"] = e.events.size();
+  j["metrics"] = e.scoring.metrics.size();
+  if (json) {
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << "exercise " << path << ": valid\n";
+  for (const auto& [key, value] : j.items())
+    if (key != "file") std::cout << "  " << key << ": " << value << "\n";
+  return 0;
+}
+
+// The root element says which kind of file it is.
+int check_file(const std::string& path, bool json) {
+  tinyxml2::XMLDocument doc;
+  skidsim::io::load_xml(doc, path);
+  const tinyxml2::XMLElement* root = doc.RootElement();
+  const std::string kind = root ? root->Name() : "";
+  if (kind == "exercise") return check_exercise(path, json);
+  if (kind == "loader_parameters") return check_loader(path, json);
+  skidsim::io::fail_at(path, root, "expected an <exercise> or a <loader_parameters> file");
 }
 
 int list_soils(const std::string& path) {
@@ -151,10 +207,13 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--out", bench_out, "Also write the results as JSON to this file");
 
   std::string loader_path = skidsim::io::default_loader_path();
+  std::string check_path;
   bool check_json = false;
   CLI::App* check_cmd = app.add_subcommand(
-      "check", "Validate a loader (parameter file, its URDF and meshes) and print what it implies:\n"
-               "mass, static tipping load, rated capacity, cycle times, travel speed, push force");
+      "check", "Validate a file without running it. An exercise: its site, tasks, events, scoring and the\n"
+               "loader it names. A loader (parameter file, its URDF and meshes; the shipped one by default):\n"
+               "what it implies: mass, static tipping load, rated capacity, cycle times, travel speed, push force");
+  check_cmd->add_option("file", check_path, "An exercise or a loader parameter file");
   check_cmd->add_option("--loader", loader_path, "Loader parameter file (its <loader_parameters> names the URDF)")
       ->capture_default_str();
   check_cmd->add_flag("--json", check_json, "Print JSON");
@@ -176,7 +235,7 @@ int main(int argc, char** argv) {
     if (*dig_cmd) return skidsim::apps::run_dig_job(dig);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
-    if (*check_cmd) return check_loader(loader_path, check_json);
+    if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);
   } catch (const skidsim::io::InputError& e) {
     std::cerr << "skidsim: " << e.what() << "\n";
     return 2;

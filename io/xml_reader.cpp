@@ -75,6 +75,30 @@ Eigen::Vector3d AttributeReader::vector3(const char* name) {
   return v;
 }
 
+Eigen::VectorXd AttributeReader::numbers(const char* name, int count) {
+  known_.insert(name);
+  const char* text = e_->Attribute(name);
+  if (!text) fail(std::string("missing attribute '") + name + "'");
+  Eigen::VectorXd v(count);
+  const char* p = text;
+  for (int k = 0; k < count; ++k)
+    if (!parse_number(p, v[k]))
+      fail(std::string("attribute '") + name + "' = \"" + text + "\": expected " + std::to_string(count) + " numbers");
+  if (!at_end(p))
+    fail(std::string("attribute '") + name + "' = \"" + text + "\": expected " + std::to_string(count) + " numbers");
+  return v;
+}
+
+bool AttributeReader::boolean_or(const char* name, bool fallback) {
+  known_.insert(name);
+  const char* t = e_->Attribute(name);
+  if (!t) return fallback;
+  const std::string s = t;
+  if (s == "true" || s == "1") return true;
+  if (s == "false" || s == "0") return false;
+  fail(std::string("attribute '") + name + "' = \"" + s + "\": expected true or false");
+}
+
 std::string AttributeReader::text(const char* name, bool required) {
   known_.insert(name);
   const char* t = e_->Attribute(name);

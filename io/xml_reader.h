@@ -30,6 +30,10 @@ class AttributeReader {
   double number_in(const char* name, double lo, double hi);
   // "x y z", three finite numbers separated by spaces.
   Eigen::Vector3d vector3(const char* name);
+  // Exactly `count` finite numbers separated by spaces ("x y", "x0 y0 x1 y1").
+  Eigen::VectorXd numbers(const char* name, int count);
+  bool has(const char* name) const { return e_->Attribute(name) != nullptr; }
+  bool boolean_or(const char* name, bool fallback);
   std::string text(const char* name, bool required);
   void reject_unknown() const;
   [[noreturn]] void fail(const std::string& what) const { fail_at(path_, e_, what); }

@@ -37,5 +37,26 @@ TEST(AppCheck, BrokenLoaderExitsTwoNamingTheFile) {
   std::filesystem::remove_all(dir);
 }
 
+// `skidsim check EXERCISE`: validates the exercise and its loader without
+// running; a broken one exits 2 naming the file, the line and the element.
+TEST(AppCheck, ExerciseIsValidatedWithoutRunning) {
+  const std::string scenario = std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.xml";
+  const CommandResult ok = run_skidsim("check --json " + scenario);
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  const nlohmann::json j = nlohmann::json::parse(ok.output);
+  EXPECT_EQ(j["exercise"], "pile-to-zone");
+  EXPECT_EQ(j["tasks"][0], "move_material move");
+  const auto dir = std::filesystem::temp_directory_path() / "skidsim_check_exercise";
+  std::filesystem::create_directories(dir);
+  const auto bad = dir / "bad.xml";
+  std::ofstream(bad) << "<exercise name=\"x\" version=\"1\" time_limit_s=\"60\">\n"
+                        "  <site size_m=\"10 10\"/>\n  <machine position=\"3 30\"/>\n</exercise>\n";
+  const CommandResult r = run_skidsim("check " + bad.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("bad.xml:3: <machine>"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("off the"), std::string::npos) << r.output;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace skidsim::testing

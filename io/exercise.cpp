@@ -1,0 +1,379 @@
+#include "io/exercise.h"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "io/loader_files.h"
+#include "io/soil_table.h"
+#include "io/xml_reader.h"
+
+namespace skidsim::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+Region read_region(AttributeReader& a, const char* name) {
+  const Eigen::VectorXd v = a.numbers(name, 4);
+  if (!(v[0] < v[2] && v[1] < v[3]))
+    a.fail(std::string("attribute '") + name + "': expected \"x0 y0 x1 y1\" with x0 < x1 and y0 < y1");
+  return Region(Eigen::Vector2d(v[0], v[1]), Eigen::Vector2d(v[2], v[3]));
+}
+
+Eigen::Vector2d read_point(AttributeReader& a, const char* name) {
+  const Eigen::VectorXd v = a.numbers(name, 2);
+  return {v[0], v[1]};
+}
+
+// A file named in the exercise, resolved against its folder; it must exist.
+std::string resolve_file(AttributeReader& a, const std::string& exercise_path, const char* name) {
+  const std::string given = a.text(name, true);
+  const fs::path p = fs::path(given).is_absolute() ? fs::path(given) : fs::path(exercise_path).parent_path() / given;
+  if (!fs::is_regular_file(p)) a.fail(std::string("attribute '") + name + "' = \"" + given + "\": no such file " + p.string());
+  return p.lexically_normal().string();
+}
+
+struct Reader {
+  std::string path;
+  Exercise ex;
+  Region site;
+  std::set<std::string> ids;  // zones, soils, trucks, boxes, tasks share one namespace
+
+  void unique_id(AttributeReader& a, const std::string& id) {
+    if (id.empty()) a.fail("attribute 'id' must not be empty");
+    if (!ids.insert(id).second) a.fail("id '" + id + "' is used twice");
+  }
+  void on_site(AttributeReader& a, const Region& r, const char* what) {
+    if (!site.contains(r)) {
+      std::ostringstream m;
+      m << what << " [" << r.min().transpose() << "] to [" << r.max().transpose() << "] is off the "
+        << site.max().x() << " m x " << site.max().y() << " m site";
+      a.fail(m.str());
+    }
+  }
+  void on_site(AttributeReader& a, const Eigen::Vector2d& p, const char* what) { on_site(a, Region(p, p), what); }
+
+  void read_soil(const tinyxml2::XMLElement* e, const SoilTable& table, const std::string& table_path) {
+    AttributeReader a(path, e);
+    SoilSite s;
+    s.id = a.text("id", true);
+    unique_id(a, s.id);
+    s.region = read_region(a, "region");
+    s.cell_m = a.number_in("cell_m", 0.01, 0.5);
+    s.depth_m = a.number_in("depth_m", 0.0, 10.0);
+    s.soil = a.text("type", true);
+    a.reject_unknown();
+    on_site(a, s.region, "the soil region");
+    if (!table.count(s.soil)) a.fail("attribute 'type' = \"" + s.soil + "\": not a soil of " + table_path);
+    const Eigen::Vector2d cells = s.region.sizes() / s.cell_m;
+    if (cells.x() < 3.0 || cells.y() < 3.0) a.fail("the soil region must be at least 3 cells each way");
+    if (cells.x() * cells.y() > 1.0e8) a.fail("the soil region has more than 1e8 cells: use larger cells");
+    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      AttributeReader b(path, c);
+      const std::string name = c->Name();
+      if (name == "pile") {
+        SoilPile p;
+        p.centre_m = read_point(b, "centre");
+        p.radius_m = b.number_in("radius_m", 0.05, 100.0);
+        p.height_m = b.number_in("height_m", 0.01, 20.0);
+        b.reject_unknown();
+        if (!s.region.contains(p.centre_m)) b.fail("the pile's centre is outside its soil region");
+        s.piles.push_back(p);
+      } else if (name == "trench") {
+        SoilTrench t;
+        t.from_m = read_point(b, "from");
+        t.to_m = read_point(b, "to");
+        t.width_m = b.number_in("width_m", 0.05, 100.0);
+        t.depth_m = b.number_in("depth_m", 0.01, 10.0);
+        b.reject_unknown();
+        if (!s.region.contains(t.from_m) || !s.region.contains(t.to_m)) b.fail("the trench runs outside its soil region");
+        if (t.depth_m > s.depth_m) b.fail("the trench is deeper than the soil layer (depth_m of <soil>)");
+        s.trenches.push_back(t);
+      } else if (name == "bank") {
+        SoilBank k;
+        k.region = read_region(b, "region");
+        k.height_m = b.number_in("height_m", 0.01, 20.0);
+        b.reject_unknown();
+        if (!s.region.contains(k.region)) b.fail("the bank is outside its soil region");
+        s.banks.push_back(k);
+      } else {
+        b.fail("unknown element (expected <pile>, <trench> or <bank>)");
+      }
+    }
+    ex.soils.push_back(s);
+  }
+
+  void read_site(const tinyxml2::XMLElement* e, const std::string& table_path) {
+    AttributeReader a(path, e);
+    const Eigen::VectorXd size = a.numbers("size_m", 2);
+    ex.firm_ground = a.boolean_or("firm_ground", true);
+    a.reject_unknown();
+    if (!(size[0] >= 1.0 && size[1] >= 1.0 && size[0] <= 2000.0 && size[1] <= 2000.0))
+      a.fail("attribute 'size_m': each side in [1, 2000] m");
+    ex.site_size_m = {size[0], size[1]};
+    site = Region(Eigen::Vector2d::Zero(), ex.site_size_m);
+    SoilTable table;
+    bool table_read = false;
+    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string name = c->Name();
+      AttributeReader b(path, c);
+      if (name == "soil") {
+        if (!table_read) {
+          table = load_soil_table(table_path);
+          table_read = true;
+        }
+        read_soil(c, table, table_path);
+      } else if (name == "zone") {
+        Zone z;
+        z.id = b.text("id", true);
+        unique_id(b, z.id);
+        z.region = read_region(b, "region");
+        b.reject_unknown();
+        on_site(b, z.region, "the zone");
+        ex.zones.push_back(z);
+      } else if (name == "box") {
+        BoxObstacle o;
+        o.id = b.text("id", true);
+        unique_id(b, o.id);
+        o.centre_m = b.vector3("centre");
+        o.size_m = b.vector3("size");
+        o.yaw_deg = b.number_or("yaw_deg", 0.0);
+        b.reject_unknown();
+        if (!(o.size_m.minCoeff() > 0.0 && o.size_m.maxCoeff() <= 100.0)) b.fail("attribute 'size': each side in (0, 100] m");
+        on_site(b, Eigen::Vector2d(o.centre_m.head<2>()), "the box's centre");
+        ex.boxes.push_back(o);
+      } else if (name == "truck") {
+        TruckBed t;
+        t.id = b.text("id", true);
+        unique_id(b, t.id);
+        t.back_corner_m = read_point(b, "back_corner");
+        t.yaw_deg = b.number_or("yaw_deg", 0.0);
+        t.length_m = b.number_in("length_m", 0.5, 20.0);
+        t.width_m = b.number_in("width_m", 0.5, 5.0);
+        t.floor_height_m = b.number_in("floor_height_m", 0.0, 5.0);
+        t.wall_height_m = b.number_in("wall_height_m", 0.05, 3.0);
+        b.reject_unknown();
+        on_site(b, t.back_corner_m, "the truck bed's corner");
+        ex.trucks.push_back(t);
+      } else {
+        b.fail("unknown element (expected <soil>, <zone>, <box> or <truck>)");
+      }
+    }
+    if (!ex.firm_ground && ex.soils.empty()) a.fail("a site without firm ground needs a <soil>");
+  }
+
+  bool is(const std::vector<Zone>& v, const std::string& id) const {
+    return std::any_of(v.begin(), v.end(), [&](const Zone& z) { return z.id == id; });
+  }
+
+  void read_task(const tinyxml2::XMLElement* e) {
+    AttributeReader a(path, e);
+    Task t;
+    t.id = a.text("id", true);
+    unique_id(a, t.id);
+    const std::string type = a.text("type", true);
+    t.time_limit_s = a.has("time_limit_s") ? a.number_in("time_limit_s", 1.0, 86400.0) : 0.0;
+    const auto zone = [&](const char* attr) {
+      const std::string id = a.text(attr, true);
+      if (!is(ex.zones, id)) a.fail(std::string("attribute '") + attr + "' = \"" + id + "\": no <zone> with that id");
+      return id;
+    };
+    if (type == "drive_course") {
+      t.type = Task::Type::kDriveCourse;
+      for (const tinyxml2::XMLElement* g = e->FirstChildElement(); g; g = g->NextSiblingElement()) {
+        AttributeReader b(path, g);
+        if (std::string(g->Name()) != "gate") b.fail("unknown element (expected <gate>)");
+        const Region r = read_region(b, "region");
+        b.reject_unknown();
+        on_site(b, r, "the gate");
+        t.gates.push_back(r);
+      }
+      if (t.gates.empty()) a.fail("a drive_course needs at least one <gate region=\"x0 y0 x1 y1\"/>");
+    } else if (type == "move_material" || type == "backfill") {
+      t.type = type == "backfill" ? Task::Type::kBackfill : Task::Type::kMoveMaterial;
+      t.from = a.text("from", true);
+      if (!std::any_of(ex.soils.begin(), ex.soils.end(), [&](const SoilSite& s) { return s.id == t.from; }))
+        a.fail("attribute 'from' = \"" + t.from + "\": no <soil> with that id");
+      t.to = zone("to");
+      t.mass_kg = a.number_in("mass_kg", 1.0, 1e7);
+    } else if (type == "load_truck") {
+      t.type = Task::Type::kLoadTruck;
+      t.to = a.text("to", true);
+      if (!std::any_of(ex.trucks.begin(), ex.trucks.end(), [&](const TruckBed& k) { return k.id == t.to; }))
+        a.fail("attribute 'to' = \"" + t.to + "\": no <truck> with that id");
+      t.mass_kg = a.number_in("mass_kg", 1.0, 1e7);
+    } else if (type == "grade") {
+      t.type = Task::Type::kGrade;
+      t.to = zone("zone");
+      t.height_m = a.number_in("height_m", -100.0, 100.0);
+      t.tolerance_m = a.number_in("tolerance_m", 0.001, 1.0);
+    } else if (type == "climb") {
+      t.type = Task::Type::kClimb;
+      t.to = zone("to");
+    } else {
+      a.fail("attribute 'type' = \"" + type +
+             "\": expected drive_course, move_material, load_truck, grade, backfill or climb");
+    }
+    a.reject_unknown();
+    if (t.type != Task::Type::kDriveCourse && e->FirstChildElement())
+      fail_at(path, e->FirstChildElement(), "unknown element (only a drive_course has <gate>s)");
+    ex.tasks.push_back(t);
+  }
+
+  void read_event(const tinyxml2::XMLElement* e) {
+    AttributeReader a(path, e);
+    Event v;
+    const std::string when = a.text("when", true);
+    v.message = a.text("message", true);
+    if (when == "time") {
+      v.when = Event::When::kAtTime;
+      v.at_s = a.number_in("at_s", 0.0, 86400.0);
+    } else if (when == "enter_zone") {
+      v.when = Event::When::kEnterZone;
+      v.subject = a.text("zone", true);
+      if (!is(ex.zones, v.subject)) a.fail("attribute 'zone' = \"" + v.subject + "\": no <zone> with that id");
+    } else if (when == "task_done") {
+      v.when = Event::When::kTaskDone;
+      v.subject = a.text("task", true);
+      if (!std::any_of(ex.tasks.begin(), ex.tasks.end(), [&](const Task& t) { return t.id == v.subject; }))
+        a.fail("attribute 'task' = \"" + v.subject + "\": no <task> with that id (tasks come before events)");
+    } else {
+      a.fail("attribute 'when' = \"" + when + "\": expected time, enter_zone or task_done");
+    }
+    a.reject_unknown();
+    ex.events.push_back(v);
+  }
+};
+
+}  // namespace
+
+const char* task_type_name(Task::Type type) {
+  switch (type) {
+    case Task::Type::kDriveCourse: return "drive_course";
+    case Task::Type::kMoveMaterial: return "move_material";
+    case Task::Type::kLoadTruck: return "load_truck";
+    case Task::Type::kGrade: return "grade";
+    case Task::Type::kBackfill: return "backfill";
+    default: return "climb";
+  }
+}
+
+const std::vector<std::string>& known_metrics() {
+  static const std::vector<std::string> m = {
+      "completion_time_s", "material_moved_kg", "material_rate_kg_h", "spillage_kg",      "bucket_fill_per_pass",
+      "collisions",        "near_misses",       "tipping_margin_violations",            "bucket_impacts",
+      "wheel_slip_time_s", "idle_time_s",       "left_work_area_s", "engine_energy_MJ", "tasks_done"};
+  return m;
+}
+
+Exercise load_exercise(const std::string& path, const std::string& soil_table_path) {
+  tinyxml2::XMLDocument doc;
+  load_xml(doc, path);
+  const tinyxml2::XMLElement* root = doc.RootElement();
+  if (!root || std::string(root->Name()) != "exercise") fail_at(path, root, "expected the root element <exercise>");
+  Reader r;
+  r.path = path;
+  r.ex.path = path;
+  const std::string table_path = soil_table_path.empty() ? default_soil_table_path() : soil_table_path;
+  {
+    AttributeReader a(path, root);
+    r.ex.name = a.text("name", true);
+    r.ex.version = static_cast<int>(a.number_in("version", 1, 1));
+    r.ex.time_limit_s = a.number_in("time_limit_s", 1.0, 86400.0);
+    a.reject_unknown();
+  }
+  bool have_site = false, have_machine = false, have_operator = false, have_scoring = false, have_record = false;
+  for (const tinyxml2::XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string name = e->Name();
+    AttributeReader a(path, e);
+    const auto once = [&](bool& have) {
+      if (have) a.fail("appears twice");
+      have = true;
+    };
+    if (name == "site") {
+      once(have_site);
+      r.read_site(e, table_path);
+    } else if (name == "machine") {
+      once(have_machine);
+      if (!have_site) a.fail("must come after <site>");
+      MachineStart& m = r.ex.machine;
+      m.loader = a.has("loader") ? resolve_file(a, path, "loader") : default_loader_path();
+      m.position_m = read_point(a, "position");
+      m.yaw_deg = a.number_or("yaw_deg", 0.0);
+      m.lift_rad = a.has("lift_rad") ? a.number_in("lift_rad", 0.0, 1.7) : m.lift_rad;
+      m.tilt_rad = a.has("tilt_rad") ? a.number_in("tilt_rad", -0.6, 2.4) : m.tilt_rad;
+      a.reject_unknown();
+      r.on_site(a, m.position_m, "the machine's start");
+    } else if (name == "operator") {
+      once(have_operator);
+      OperatorSource& o = r.ex.operator_source;
+      const std::string source = a.text("source", true);
+      if (source == "lcm") {
+        o.kind = OperatorSource::Kind::kLcm;
+        o.lcm_url = a.text("url", false);
+        if (a.has("channel")) o.channel = a.text("channel", true);
+        if (o.channel.empty()) a.fail("attribute 'channel' must not be empty");
+        o.watchdog_s = a.has("watchdog_ms") ? a.number_in("watchdog_ms", 10.0, 10000.0) / 1000.0 : o.watchdog_s;
+      } else if (source == "script") {
+        o.kind = OperatorSource::Kind::kScript;
+        o.script = resolve_file(a, path, "script");
+      } else {
+        a.fail("attribute 'source' = \"" + source + "\": expected lcm or script");
+      }
+      a.reject_unknown();
+    } else if (name == "task") {
+      if (!have_site) a.fail("must come after <site>");
+      r.read_task(e);
+    } else if (name == "event") {
+      r.read_event(e);
+    } else if (name == "scoring") {
+      once(have_scoring);
+      r.ex.scoring.pass_score = a.number_or("pass_score", 0.0);
+      a.reject_unknown();
+      std::set<std::string> seen;
+      for (const tinyxml2::XMLElement* m = e->FirstChildElement(); m; m = m->NextSiblingElement()) {
+        AttributeReader b(path, m);
+        if (std::string(m->Name()) != "metric") b.fail("unknown element (expected <metric>)");
+        Metric metric;
+        metric.name = b.text("name", true);
+        metric.weight = b.number_in("weight", -1e6, 1e6);
+        b.reject_unknown();
+        const auto& known = known_metrics();
+        if (std::find(known.begin(), known.end(), metric.name) == known.end()) {
+          std::string list;
+          for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+          b.fail("attribute 'name' = \"" + metric.name + "\": expected one of " + list);
+        }
+        if (!seen.insert(metric.name).second) b.fail("metric '" + metric.name + "' is listed twice");
+        r.ex.scoring.metrics.push_back(metric);
+      }
+    } else if (name == "record") {
+      once(have_record);
+      Recording& rec = r.ex.recording;
+      rec.fps = a.number_in("fps", 0.1, 120.0);
+      rec.camera = a.text("camera", false);
+      if (rec.camera.empty()) rec.camera = "chase";
+      if (rec.camera != "cab" && rec.camera != "chase" && rec.camera != "aerial" && rec.camera != "fixed")
+        a.fail("attribute 'camera' = \"" + rec.camera + "\": expected cab, chase, aerial or fixed");
+      rec.width = static_cast<int>(a.has("width") ? a.number_in("width", 16, 8192) : rec.width);
+      rec.height = static_cast<int>(a.has("height") ? a.number_in("height", 16, 8192) : rec.height);
+      a.reject_unknown();
+    } else {
+      a.fail("unknown element (expected <site>, <machine>, <operator>, <task>, <event>, <scoring> or <record>)");
+    }
+  }
+  const auto need = [&](bool have, const char* what) {
+    if (!have) fail_at(path, root, std::string("missing <") + what + ">");
+  };
+  need(have_site, "site");
+  need(have_machine, "machine");
+  need(have_operator, "operator");
+  if (r.ex.tasks.empty()) fail_at(path, root, "an exercise needs at least one <task>");
+  return r.ex;
+}
+
+}  // namespace skidsim::io

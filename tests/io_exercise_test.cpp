@@ -1,0 +1,105 @@
+// The exercise file (EXERCISES.md): the shipped scenario reads whole; a
+// corpus of bad files each gets its error naming the file, the line, the
+// element and what was expected.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "io/atomic_file.h"
+#include "io/exercise.h"
+#include "io/loader_files.h"
+
+namespace skidsim::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string scenario(const std::string& name) {
+  return (fs::path(default_loader_path()).parent_path().parent_path().parent_path() / "scenarios" / name).string();
+}
+
+TEST(ExerciseFile, ShippedPileToZoneReadsWhole) {
+  const Exercise e = load_exercise(scenario("pile_to_zone.xml"));
+  EXPECT_EQ(e.name, "pile-to-zone");
+  EXPECT_EQ(e.time_limit_s, 600.0);
+  ASSERT_EQ(e.soils.size(), 1u);
+  EXPECT_EQ(e.soils[0].soil, "dry_sand");
+  EXPECT_EQ(e.soils[0].cell_m, 0.05);
+  ASSERT_EQ(e.soils[0].piles.size(), 1u);
+  EXPECT_EQ(e.soils[0].piles[0].height_m, 1.0);
+  ASSERT_EQ(e.zones.size(), 1u);
+  EXPECT_EQ(e.zones[0].region.min(), Eigen::Vector2d(12.0, 8.5));
+  EXPECT_TRUE(fs::exists(e.machine.loader));
+  EXPECT_EQ(e.operator_source.kind, OperatorSource::Kind::kLcm);
+  EXPECT_EQ(e.operator_source.watchdog_s, 0.2);
+  ASSERT_EQ(e.tasks.size(), 1u);
+  EXPECT_EQ(e.tasks[0].type, Task::Type::kMoveMaterial);
+  EXPECT_EQ(e.tasks[0].mass_kg, 1000.0);
+  EXPECT_EQ(e.events.size(), 2u);
+  EXPECT_EQ(e.scoring.metrics.size(), 4u);
+  EXPECT_EQ(e.recording.fps, 10.0);
+}
+
+// Each case: a change to the shipped file, and the words its error must
+// have (the file and line are checked for all).
+struct BadCase {
+  std::string from, to;
+  std::vector<std::string> words;
+};
+
+class BrokenExercise : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BrokenExercise, ErrorNamesFileLineElementAndExpectation) {
+  std::ifstream in(scenario("pile_to_zone.xml"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const BadCase& c = GetParam();
+  const std::size_t at = text.find(c.from);
+  ASSERT_NE(at, std::string::npos) << c.from;
+  text.replace(at, c.from.size(), c.to);
+  const fs::path dir = fs::temp_directory_path() / ("skidsim_exercise_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "bad.xml";
+  std::ofstream(file, std::ios::trunc) << text;
+  try {
+    load_exercise(file.string());
+    FAIL() << "no error for " << c.to;
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(file.string() + ":"), std::string::npos) << msg;
+    for (const std::string& w : c.words) EXPECT_NE(msg.find(w), std::string::npos) << "'" << w << "' not in: " << msg;
+  }
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Corpus, BrokenExercise,
+    ::testing::Values(
+        BadCase{"<zone id", "<zon id", {"<zon>", "unknown element"}},
+        BadCase{"cell_m=\"0.05\"", "cell_m=\"0.0001\"", {"<soil>", "cell_m", "out of range"}},
+        BadCase{"type=\"dry_sand\"", "type=\"wet_sand\"", {"<soil>", "wet_sand", "not a soil"}},
+        BadCase{"to=\"target\"", "to=\"targte\"", {"<task>", "targte", "no <zone>"}},
+        BadCase{"mass_kg=\"1000\"", "mass_kg=\"lots\"", {"<task>", "mass_kg", "expected a number"}},
+        BadCase{"type=\"move_material\"", "type=\"dance\"", {"<task>", "dance", "expected drive_course"}},
+        BadCase{"region=\"12 8.5 14.5 11.5\"", "region=\"12 8.5 24.5 11.5\"", {"<zone>", "off the"}},
+        BadCase{"region=\"12 8.5 14.5 11.5\"", "region=\"14 8.5 12 11.5\"", {"<zone>", "x0 < x1"}},
+        BadCase{"position=\"3 10\"", "position=\"3 10\" colour=\"red\"", {"<machine>", "unknown attribute 'colour'"}},
+        BadCase{"<machine position=\"3 10\"", "<machine loader=\"nope.params.xml\" position=\"3 10\"",
+                {"<machine>", "nope.params.xml", "no such file"}},
+        BadCase{"source=\"lcm\"", "source=\"telepathy\"", {"<operator>", "expected lcm or script"}},
+        BadCase{"watchdog_ms=\"200\"", "watchdog_ms=\"nan\"", {"<operator>", "watchdog_ms"}},
+        BadCase{"name=\"spillage_kg\"", "name=\"style_points\"", {"<metric>", "style_points", "expected one of"}},
+        BadCase{"task=\"move\"", "task=\"mvoe\"", {"<event>", "mvoe", "no <task>"}},
+        BadCase{"camera=\"chase\"", "camera=\"drone\"", {"<record>", "drone"}},
+        BadCase{"<pile centre=\"8 10\"", "<pile centre=\"30 10\"", {"<pile>", "outside its soil region"}},
+        BadCase{"  <task id=\"move\" type=\"move_material\" from=\"yard\" to=\"target\" mass_kg=\"1000\"/>\n"
+                "  <event when=\"time\" at_s=\"0\" message=\"Fill the bucket at the pile and dump the sand in the marked "
+                "zone.\"/>\n  <event when=\"task_done\" task=\"move\" message=\"Done: 1 t in the zone.\"/>\n",
+                "", {"at least one <task>"}},
+        BadCase{"</exercise>", "", {"XML"}}));
+
+}  // namespace
+}  // namespace skidsim::io
