@@ -113,6 +113,12 @@ skidsim_lcm::state_t machine_state(const engine::World& w, bool controls_neutral
   }
   s.lift_angle_rad = l.joint_angle(0);
   s.tilt_angle_rad = l.joint_angle(1);
+  {
+    // The floor's x axis in the world: the bucket link's x (the container
+    // frame has its axes).
+    const Eigen::Matrix3d r = l.link_pose(static_cast<int>(l.description().links.size()) - 1).linear();
+    s.bucket_pitch_rad = std::asin(std::clamp(r(2, 0), -1.0, 1.0));
+  }
   s.lift_pressure_Pa = l.cylinders().size() > 0 ? l.cylinders()[0].pressure_Pa : 0.0;
   s.tilt_pressure_Pa = l.cylinders().size() > 1 ? l.cylinders()[1].pressure_Pa : 0.0;
   const auto& wheels = l.wheels();
