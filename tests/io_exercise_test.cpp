@@ -38,7 +38,7 @@ TEST(ExerciseFile, ShippedPileToZoneReadsWhole) {
   EXPECT_EQ(e.operator_source.watchdog_s, 0.2);
   ASSERT_EQ(e.tasks.size(), 1u);
   EXPECT_EQ(e.tasks[0].type, Task::Type::kMoveMaterial);
-  EXPECT_EQ(e.tasks[0].mass_kg, 1000.0);
+  EXPECT_EQ(e.tasks[0].mass_kg, 800.0);
   EXPECT_EQ(e.events.size(), 2u);
   EXPECT_EQ(e.scoring.metrics.size(), 4u);
   EXPECT_EQ(e.recording.fps, 10.0);
@@ -82,7 +82,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"cell_m=\"0.05\"", "cell_m=\"0.0001\"", {"<soil>", "cell_m", "out of range"}},
         BadCase{"type=\"dry_sand\"", "type=\"wet_sand\"", {"<soil>", "wet_sand", "not a soil"}},
         BadCase{"to=\"target\"", "to=\"targte\"", {"<task>", "targte", "no <zone>"}},
-        BadCase{"mass_kg=\"1000\"", "mass_kg=\"lots\"", {"<task>", "mass_kg", "expected a number"}},
+        BadCase{"mass_kg=\"800\"", "mass_kg=\"lots\"", {"<task>", "mass_kg", "expected a number"}},
         BadCase{"type=\"move_material\"", "type=\"dance\"", {"<task>", "dance", "expected drive_course"}},
         BadCase{"region=\"12 8.5 14.5 11.5\"", "region=\"12 8.5 24.5 11.5\"", {"<zone>", "off the"}},
         BadCase{"region=\"12 8.5 14.5 11.5\"", "region=\"14 8.5 12 11.5\"", {"<zone>", "x0 < x1"}},
@@ -95,9 +95,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"task=\"move\"", "task=\"mvoe\"", {"<event>", "mvoe", "no <task>"}},
         BadCase{"camera=\"chase\"", "camera=\"drone\"", {"<record>", "drone"}},
         BadCase{"<pile centre=\"8 10\"", "<pile centre=\"30 10\"", {"<pile>", "outside its soil region"}},
-        BadCase{"  <task id=\"move\" type=\"move_material\" from=\"yard\" to=\"target\" mass_kg=\"1000\"/>\n"
+        BadCase{"  <task id=\"move\" type=\"move_material\" from=\"yard\" to=\"target\" mass_kg=\"800\"/>\n"
                 "  <event when=\"time\" at_s=\"0\" message=\"Fill the bucket at the pile and dump the sand in the marked "
-                "zone.\"/>\n  <event when=\"task_done\" task=\"move\" message=\"Done: 1 t in the zone.\"/>\n",
+                "zone.\"/>\n  <event when=\"task_done\" task=\"move\" message=\"Done: 800 kg in the zone.\"/>\n",
                 "", {"at least one <task>"}},
         BadCase{"</exercise>", "", {"XML"}}));
 

@@ -1,0 +1,186 @@
+#include "apps/session_tasks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace skidsim::apps {
+namespace {
+
+const io::Zone* find_zone(const io::Exercise& ex, const std::string& id) {
+  for (const io::Zone& z : ex.zones)
+    if (z.id == id) return &z;
+  return nullptr;
+}
+
+}  // namespace
+
+double Metrics::value(const std::string& name) const {
+  if (name == "completion_time_s") return completion_time_s;
+  if (name == "material_moved_kg") return material_moved_kg;
+  if (name == "tasks_done") return tasks_done;
+  if (name == "tipping_margin_violations") return tipping_margin_violations;
+  if (name == "idle_time_s") return idle_time_s;
+  if (name == "wheel_slip_time_s") return wheel_slip_time_s;
+  if (name == "left_work_area_s") return left_work_area_s;
+  return 0.0;
+}
+
+SessionTasks::SessionTasks(const io::Exercise& exercise, const engine::World& world) : exercise_(exercise) {
+  for (const io::Task& t : exercise.tasks) {
+    TaskProgress p;
+    p.id = t.id;
+    p.type = io::task_type_name(t.type);
+    tasks_.push_back(p);
+    double baseline = 0.0;
+    if (t.type == io::Task::Type::kMoveMaterial || t.type == io::Task::Type::kBackfill)
+      baseline = zone_material_kg(world, t.to);
+    baseline_kg_.push_back(baseline);
+    next_gate_.push_back(0);
+  }
+  fired_.assign(exercise.events.size(), false);
+  was_in_zone_.assign(exercise.zones.size(), false);
+}
+
+double SessionTasks::zone_material_kg(const engine::World& w, const std::string& id) const {
+  const io::Zone* z = find_zone(exercise_, id);
+  const terrain::GranularGrid* g = w.terrain();
+  if (!z || !g) return 0.0;
+  double kg = 0.0;
+  for (int j = 0; j < g->ny(); ++j)
+    for (int i = 0; i < g->nx(); ++i)
+      if (z->region.contains(Eigen::Vector2d(g->spec().origin_m + g->cell_size_m() * Eigen::Vector2d(i, j))))
+        kg += g->material_mass_kg(i, j);
+  return kg;
+}
+
+void SessionTasks::emit(double t, const std::string& kind, const std::string& text, int severity) {
+  SessionEvent e{t, kind, text, severity};
+  pending_.push_back(e);
+  log_.push_back(e);
+}
+
+void SessionTasks::update(const engine::World& w, double dt_s) {
+  const double t = w.time_s();
+  const Eigen::Vector2d xy = w.loader().link_pose(0).translation().head<2>();
+  double moved = 0.0;
+  for (std::size_t k = 0; k < tasks_.size(); ++k) {
+    const io::Task& task = exercise_.tasks[k];
+    TaskProgress& p = tasks_[k];
+    if (p.done) continue;
+    std::ostringstream d;
+    switch (task.type) {
+      case io::Task::Type::kMoveMaterial:
+      case io::Task::Type::kBackfill: {
+        const double in = zone_material_kg(w, task.to) - baseline_kg_[k];
+        moved += std::max(0.0, in);
+        p.progress = std::clamp(in / task.mass_kg, 0.0, 1.0);
+        d << static_cast<long>(std::max(0.0, in)) << " of " << task.mass_kg << " kg in '" << task.to << "'";
+        break;
+      }
+      case io::Task::Type::kLoadTruck: {
+        double in = 0.0;
+        for (std::size_t b = 0; b < exercise_.trucks.size(); ++b)
+          if (exercise_.trucks[b].id == task.to && static_cast<int>(b) < w.tray_count()) in = w.tray(static_cast<int>(b)).material_mass_kg();
+        moved += in;
+        p.progress = std::clamp(in / task.mass_kg, 0.0, 1.0);
+        d << static_cast<long>(in) << " of " << task.mass_kg << " kg in truck '" << task.to << "'";
+        break;
+      }
+      case io::Task::Type::kDriveCourse: {
+        std::size_t& gate = next_gate_[k];
+        if (gate < task.gates.size() && task.gates[gate].contains(xy)) {
+          ++gate;
+          emit(t, "task_progress", "gate " + std::to_string(gate) + " of " + std::to_string(task.gates.size()));
+        }
+        p.progress = static_cast<double>(gate) / static_cast<double>(task.gates.size());
+        d << gate << " of " << task.gates.size() << " gates";
+        break;
+      }
+      case io::Task::Type::kClimb: {
+        const io::Zone* z = find_zone(exercise_, task.to);
+        p.progress = z && z->region.contains(xy) ? 1.0 : 0.0;
+        d << (p.progress >= 1.0 ? "reached" : "not reached") << " '" << task.to << "'";
+        break;
+      }
+      case io::Task::Type::kGrade: {
+        const io::Zone* z = find_zone(exercise_, task.to);
+        const terrain::GranularGrid* g = w.terrain();
+        long cells = 0, within = 0;
+        if (z && g)
+          for (int j = 0; j < g->ny(); ++j)
+            for (int i = 0; i < g->nx(); ++i)
+              if (z->region.contains(Eigen::Vector2d(g->spec().origin_m + g->cell_size_m() * Eigen::Vector2d(i, j)))) {
+                ++cells;
+                within += std::abs(g->surface_m(i, j) - task.height_m) <= task.tolerance_m;
+              }
+        p.progress = cells > 0 ? static_cast<double>(within) / static_cast<double>(cells) : 0.0;
+        d << within << " of " << cells << " cells within " << task.tolerance_m << " m of " << task.height_m << " m";
+        break;
+      }
+    }
+    p.detail = d.str();
+    const double limit = task.time_limit_s > 0.0 ? task.time_limit_s : exercise_.time_limit_s;
+    if (p.progress >= 1.0 && t <= limit) {
+      p.done = true;
+      p.done_at_s = t;
+      emit(t, "task_done", "task '" + p.id + "' done: " + p.detail);
+    }
+  }
+  metrics_.material_moved_kg = moved;
+  metrics_.tasks_done = static_cast<double>(std::count_if(tasks_.begin(), tasks_.end(), [](const TaskProgress& p) { return p.done; }));
+  if (all_done() && metrics_.completion_time_s == 0.0) metrics_.completion_time_s = t;
+  // Handling metrics.
+  const vehicle::Loader& l = w.loader();
+  double rear = 0.0, total = 0.0, worst_slip = 0.0;
+  for (std::size_t k = 0; k < l.wheels().size(); ++k) {
+    total += l.wheels()[k].normal_load_N;
+    if (l.description().wheels[k].hub_m.x() < 0.0) rear += l.wheels()[k].normal_load_N;
+    worst_slip = std::max(worst_slip, std::abs(l.wheels()[k].slip_ratio));
+  }
+  const bool tipping = total > 0.0 && rear < 0.05 * total;
+  if (tipping && !tipping_) {
+    metrics_.tipping_margin_violations += 1.0;
+    emit(t, "warning", "the rear wheels lifted: the machine is tipping forward", 2);
+  }
+  tipping_ = tipping;
+  if (l.chassis_velocity().head<2>().norm() < 0.05) metrics_.idle_time_s += dt_s;
+  if (worst_slip > 0.3) metrics_.wheel_slip_time_s += dt_s;
+  const Eigen::AlignedBox2d site(Eigen::Vector2d::Zero(), exercise_.site_size_m);
+  if (!site.contains(xy)) metrics_.left_work_area_s += dt_s;
+  // The exercise's events.
+  for (std::size_t k = 0; k < exercise_.events.size(); ++k) {
+    if (fired_[k]) continue;
+    const io::Event& e = exercise_.events[k];
+    bool fire = false;
+    if (e.when == io::Event::When::kAtTime) fire = t >= e.at_s;
+    if (e.when == io::Event::When::kEnterZone) {
+      const io::Zone* z = find_zone(exercise_, e.subject);
+      fire = z && z->region.contains(xy);
+    }
+    if (e.when == io::Event::When::kTaskDone)
+      for (const TaskProgress& p : tasks_) fire = fire || (p.id == e.subject && p.done);
+    if (fire) {
+      fired_[k] = true;
+      emit(t, "message", e.message);
+    }
+  }
+}
+
+bool SessionTasks::all_done() const {
+  return std::all_of(tasks_.begin(), tasks_.end(), [](const TaskProgress& p) { return p.done; });
+}
+
+std::vector<SessionEvent> SessionTasks::take_events() {
+  std::vector<SessionEvent> out;
+  out.swap(pending_);
+  return out;
+}
+
+double SessionTasks::score() const {
+  double s = 0.0;
+  for (const io::Metric& m : exercise_.scoring.metrics) s += m.weight * metrics_.value(m.name);
+  return s;
+}
+
+}  // namespace skidsim::apps

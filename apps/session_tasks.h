@@ -1,0 +1,70 @@
+// A session's tasks, events and metrics at run time (EXERCISES.md, "Scoring";
+// thesis 9.2.2, the exercise manager's evaluation): evaluated from the world
+// once per control tick, never inside the 2 ms step.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/world.h"
+#include "io/exercise.h"
+
+namespace skidsim::apps {
+
+struct TaskProgress {
+  std::string id, type;
+  bool done = false;
+  double done_at_s = -1.0;
+  double progress = 0.0;  // 0 to 1
+  std::string detail;     // e.g. "612 of 1000 kg in 'target'"
+};
+
+struct SessionEvent {
+  double time_s = 0.0;
+  std::string kind, text;
+  int severity = 0;
+};
+
+struct Metrics {
+  double completion_time_s = 0.0;
+  double material_moved_kg = 0.0;
+  double tasks_done = 0.0;
+  double tipping_margin_violations = 0.0;  // times the rear wheels lost almost all load
+  double idle_time_s = 0.0;
+  double wheel_slip_time_s = 0.0;
+  double left_work_area_s = 0.0;
+  double value(const std::string& name) const;  // 0 for a metric not measured yet
+};
+
+class SessionTasks {
+ public:
+  SessionTasks(const io::Exercise& exercise, const engine::World& world);
+  // Once per control tick of `dt_s`.
+  void update(const engine::World& world, double dt_s);
+  bool all_done() const;
+  const std::vector<TaskProgress>& tasks() const { return tasks_; }
+  // Events since the last call (moved out).
+  std::vector<SessionEvent> take_events();
+  const std::vector<SessionEvent>& all_events() const { return log_; }
+  const Metrics& metrics() const { return metrics_; }
+  // Sum of weight x metric over the exercise's <scoring>; pass when every
+  // task is done and the score reaches pass_score.
+  double score() const;
+  bool passed() const { return all_done() && score() >= exercise_.scoring.pass_score; }
+
+ private:
+  double zone_material_kg(const engine::World& w, const std::string& zone) const;
+  void emit(double t, const std::string& kind, const std::string& text, int severity = 0);
+
+  const io::Exercise& exercise_;
+  std::vector<TaskProgress> tasks_;
+  std::vector<double> baseline_kg_;     // per task: material in its target at the start
+  std::vector<std::size_t> next_gate_;  // drive_course
+  std::vector<bool> fired_;             // per exercise event
+  std::vector<bool> was_in_zone_;       // per zone
+  std::vector<SessionEvent> pending_, log_;
+  Metrics metrics_;
+  bool tipping_ = false;
+};
+
+}  // namespace skidsim::apps
