@@ -15,6 +15,15 @@ const io::Zone* find_zone(const io::Exercise& ex, const std::string& id) {
 
 }  // namespace
 
+bool Metrics::measured(const std::string& name) {
+  static const char* const kMeasured[] = {"completion_time_s", "material_moved_kg", "tasks_done",
+                                          "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s",
+                                          "left_work_area_s"};
+  for (const char* m : kMeasured)
+    if (name == m) return true;
+  return false;
+}
+
 double Metrics::value(const std::string& name) const {
   if (name == "completion_time_s") return completion_time_s;
   if (name == "material_moved_kg") return material_moved_kg;

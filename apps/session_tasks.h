@@ -34,6 +34,7 @@ struct Metrics {
   double wheel_slip_time_s = 0.0;
   double left_work_area_s = 0.0;
   double value(const std::string& name) const;  // 0 for a metric not measured yet
+  static bool measured(const std::string& name);
 };
 
 class SessionTasks {

@@ -13,6 +13,7 @@
 #include "apps/dig_job.h"
 #include "apps/pour_job.h"
 #include "apps/push_job.h"
+#include "apps/run_job.h"
 #include "io/atomic_file.h"
 #include "io/exercise.h"
 #include "io/loader_files.h"
@@ -196,6 +197,17 @@ int main(int argc, char** argv) {
   dig_cmd->add_option("--bank-m", dig.bank_height_m, "Height of the sand bank, m")->capture_default_str();
   dig_cmd->add_option("--loader", dig.loader_path, "Loader parameter file (default: the shipped loader)");
 
+  skidsim::apps::RunJob run;
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "Run a training session from an exercise file: its world, operator (a script, or commands over\n"
+             "LCM), tasks and score; writes a run directory (report.json, session.lcmlog, final terrain)");
+  run_cmd->add_option("exercise", run.exercise_path, "Exercise file")->required();
+  run_cmd->add_option("--out", run.out_dir, "Run directory to write")->capture_default_str();
+  run_cmd->add_option("--script", run.script_path, "Operator script (default: the exercise's operator)");
+  run_cmd->add_option("--lcm", run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
+  run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
+  run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time (default: the exercise's limit)");
+
   bool bench_json = false;
   std::string bench_filter, bench_out;
   double bench_min_time = 0.0;
@@ -233,6 +245,7 @@ int main(int argc, char** argv) {
     if (*pour_cmd) return skidsim::apps::run_pour_job(pour);
     if (*push_cmd) return skidsim::apps::run_push_job(push);
     if (*dig_cmd) return skidsim::apps::run_dig_job(dig);
+    if (*run_cmd) return skidsim::apps::run_session(run);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);

@@ -40,7 +40,7 @@ TEST(ExerciseFile, ShippedPileToZoneReadsWhole) {
   EXPECT_EQ(e.tasks[0].type, Task::Type::kMoveMaterial);
   EXPECT_EQ(e.tasks[0].mass_kg, 800.0);
   EXPECT_EQ(e.events.size(), 2u);
-  EXPECT_EQ(e.scoring.metrics.size(), 4u);
+  EXPECT_EQ(e.scoring.metrics.size(), 3u);
   EXPECT_EQ(e.recording.fps, 10.0);
 }
 
@@ -91,7 +91,7 @@ INSTANTIATE_TEST_SUITE_P(
                 {"<machine>", "nope.params.xml", "no such file"}},
         BadCase{"source=\"lcm\"", "source=\"telepathy\"", {"<operator>", "expected lcm or script"}},
         BadCase{"watchdog_ms=\"200\"", "watchdog_ms=\"nan\"", {"<operator>", "watchdog_ms"}},
-        BadCase{"name=\"spillage_kg\"", "name=\"style_points\"", {"<metric>", "style_points", "expected one of"}},
+        BadCase{"name=\"completion_time_s\"", "name=\"style_points\"", {"<metric>", "style_points", "expected one of"}},
         BadCase{"task=\"move\"", "task=\"mvoe\"", {"<event>", "mvoe", "no <task>"}},
         BadCase{"camera=\"chase\"", "camera=\"drone\"", {"<record>", "drone"}},
         BadCase{"<pile centre=\"8 10\"", "<pile centre=\"30 10\"", {"<pile>", "outside its soil region"}},

@@ -1,0 +1,223 @@
+#include "apps/run_job.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "apps/operator_player.h"
+#include "apps/progress.h"
+#include "apps/run_directory.h"
+#include "apps/session_tasks.h"
+#include "apps/session_world.h"
+#include "io/atomic_file.h"
+#include "io/control_input.h"
+#include "io/lcm_bridge.h"
+#include "io/loader_files.h"
+
+namespace skidsim::apps {
+namespace {
+
+using nlohmann::json;
+
+constexpr int kStepsPerTick = 5;        // controls every 10 ms
+constexpr int kStepsPerState = 10;      // state published at 50 Hz
+
+// FNV-1a over the bytes of what defines the final state: the terrain, the
+// bucket's and beds' loads, the machine's pose.
+std::uint64_t state_hash(const engine::World& w) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto add = [&h](const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < n; ++k) h = (h ^ p[k]) * 1099511628211ull;
+  };
+  const auto add_grid = [&](const terrain::GranularGrid& g) {
+    for (int c = 0; c < g.nx() * g.ny(); ++c) {
+      const std::int64_t q = g.loose_quanta(c);
+      add(&q, sizeof q);
+    }
+  };
+  if (w.terrain()) add_grid(*w.terrain());
+  if (w.bucket_material()) add_grid(w.bucket_material()->grid());
+  for (int k = 0; k < w.tray_count(); ++k) add_grid(w.tray(k).grid());
+  const Eigen::Matrix4d pose = w.loader().link_pose(0).matrix();
+  add(pose.data(), sizeof(double) * 16);
+  return h;
+}
+
+// Writes one message to the LCM log (readable by lcm-logplayer).
+template <class Message>
+void log_message(lcm::LogFile& log, const std::string& channel, const Message& m, double sim_time_s) {
+  const int size = m.getEncodedSize();
+  std::vector<unsigned char> buffer(static_cast<std::size_t>(size));
+  m.encode(buffer.data(), 0, size);
+  lcm::LogEvent e;
+  e.eventnum = 0;
+  e.timestamp = static_cast<std::int64_t>(sim_time_s * 1e6);
+  e.channel = channel;
+  e.datalen = size;
+  e.data = buffer.data();
+  log.writeEvent(&e);
+}
+
+}  // namespace
+
+int run_session(const RunJob& job) {
+  const io::Exercise ex = io::load_exercise(job.exercise_path);
+  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
+  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
+  const std::string script_path =
+      !job.script_path.empty() ? job.script_path
+                               : (ex.operator_source.kind == io::OperatorSource::Kind::kScript ? ex.operator_source.script : "");
+  std::unique_ptr<OperatorPlayer> player;
+  if (!script_path.empty()) player = std::make_unique<OperatorPlayer>(io::load_operator_script(script_path));
+  const std::string mode = !job.mode.empty() ? job.mode : (player ? "fast" : "realtime");
+  if (mode != "fast" && mode != "realtime" && mode != "lockstep")
+    throw io::InputError("--mode '" + mode + "': expected fast, realtime or lockstep");
+  if (mode == "fast" && !player) throw io::InputError("--mode fast needs a script (--script, or <operator source=\"script\">)");
+  if (!(job.max_s >= 0.0 && job.max_s <= 86400.0)) throw io::InputError("--max-s: expected 0 to 86400 s");
+  // LCM: the operator's commands when there is no script; state and events
+  // out whenever a provider is named (or the operator is on LCM).
+  io::ControlInput input(ex.operator_source.watchdog_s);
+  std::unique_ptr<io::LcmBridge> bridge;
+  const std::string url = !job.lcm_url.empty() ? job.lcm_url
+                          : !ex.operator_source.lcm_url.empty() ? ex.operator_source.lcm_url
+                                                                : std::string(io::kDefaultLcmUrl);
+  io::LcmChannels channels;
+  channels.control = ex.operator_source.channel;
+  if (!player || !job.lcm_url.empty()) bridge = std::make_unique<io::LcmBridge>(url, channels, &input);
+
+  auto world = build_session_world(ex, loader, soils);
+  SessionTasks tasks(ex, *world);
+  StagedRunDirectory run_dir(job.out_dir);
+  const std::string log_path = (run_dir.staging() / "session.lcmlog").string();
+  auto log_file = std::make_unique<lcm::LogFile>(log_path, "w");
+  if (!log_file->good()) throw io::InputError("cannot write the LCM log " + log_path);
+  lcm::LogFile& log = *log_file;
+
+  const double limit_s = job.max_s > 0.0 ? job.max_s : ex.time_limit_s;
+  Progress progress("run", limit_s);
+  vehicle::LoaderControls controls;
+  controls.parking_brake = true;
+  std::int64_t seq = 0;
+  const auto wall_start = std::chrono::steady_clock::now();
+  bool script_done_at_set = false;
+  double script_done_s = 0.0;
+  while (world->time_s() < limit_s) {
+    const long step = world->steps();
+    const double t = world->time_s();
+    if (step % kStepsPerTick == 0) {
+      const skidsim_lcm::state_t state = machine_state(*world, input.neutral());
+      if (player) {
+        controls = player->step(state);
+      } else {
+        if (mode == "lockstep") {
+          // Wait (up to the watchdog) for the command stamped for this tick.
+          const auto deadline = std::chrono::steady_clock::now() +
+                                std::chrono::milliseconds(static_cast<int>(1000.0 * ex.operator_source.watchdog_s));
+          while (input.last_sim_step() < step && std::chrono::steady_clock::now() < deadline) bridge->wait(5, t);
+        } else {
+          bridge->poll(t);
+        }
+        controls = input.controls(t);
+      }
+      skidsim_lcm::control_t applied{};
+      applied.seq = ++seq;
+      applied.sim_step = step;
+      applied.drive_left = controls.drive_left;
+      applied.drive_right = controls.drive_right;
+      applied.lift = controls.lift;
+      applied.tilt = controls.tilt;
+      applied.throttle = controls.throttle;
+      applied.parking_brake = controls.parking_brake;
+      log_message(log, channels.control + "_APPLIED", applied, t);
+      tasks.update(*world, kStepsPerTick * engine::kStepSeconds);
+      for (const SessionEvent& e : tasks.take_events()) {
+        skidsim_lcm::event_t m{};
+        m.step = step;
+        m.sim_time_s = e.time_s;
+        m.kind = e.kind;
+        m.severity = static_cast<std::int8_t>(e.severity);
+        m.text = e.text;
+        log_message(log, channels.events, m, t);
+        if (bridge) bridge->publish_event(m);
+      }
+      if (step % kStepsPerState == 0) {
+        skidsim_lcm::state_t s = state;
+        s.score = tasks.score();
+        log_message(log, channels.state, s, t);
+        if (bridge) bridge->publish_state(s);
+      }
+      if (tasks.all_done()) break;
+      if (player && player->done()) {
+        if (!script_done_at_set) {
+          script_done_at_set = true;
+          script_done_s = t;
+        }
+        if (t - script_done_s > 1.0) break;  // the script has finished: one more second to settle
+      }
+    }
+    world->step(controls);
+    if (mode == "realtime") {
+      const auto due = wall_start + std::chrono::duration<double>(world->time_s());
+      std::this_thread::sleep_until(due);
+    }
+    progress.update(world->time_s(), tasks.tasks().empty() ? "" : tasks.tasks().front().detail);
+  }
+  progress.finish();
+  const double wall_s = progress.wall_seconds(), sim_s = world->time_s();
+
+  json task_list = json::array();
+  for (const TaskProgress& p : tasks.tasks())
+    task_list.push_back({{"id", p.id}, {"type", p.type}, {"done", p.done}, {"done_at_s", p.done_at_s},
+                         {"progress", p.progress}, {"detail", p.detail}});
+  json metrics = json::object(), not_measured = json::array();
+  for (const std::string& name : io::known_metrics()) {
+    if (Metrics::measured(name)) {
+      metrics[name] = tasks.metrics().value(name);
+    } else {
+      not_measured.push_back(name);
+    }
+  }
+  json events = json::array();
+  for (const SessionEvent& e : tasks.all_events())
+    events.push_back({{"time_s", e.time_s}, {"kind", e.kind}, {"severity", e.severity}, {"text", e.text}});
+  char hash[32];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(state_hash(*world)));
+  const io::ControlStats& cs = input.stats();
+  const json report = {
+      {"exercise", {{"name", ex.name}, {"file", ex.path}}},
+      {"mode", mode},
+      {"operator", player ? "script " + script_path : "lcm " + url + " channel " + channels.control},
+      {"result", {{"passed", tasks.passed()}, {"score", tasks.score()}, {"pass_score", ex.scoring.pass_score},
+                  {"all_tasks_done", tasks.all_done()}, {"tasks", task_list},
+                  {"script_phases_timed_out", player ? json(player->timed_out()) : json::array()}}},
+      {"metrics", metrics},
+      {"metrics_not_measured_yet", not_measured},
+      {"events", events},
+      {"controls", {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},
+                    {"rejected_stale", cs.rejected_stale}, {"malformed", cs.malformed},
+                    {"watchdog_trips", cs.watchdog_trips}}},
+      {"final_state_hash", hash},
+      {"machine_finite", world->events().finite},
+      {"performance", {{"simulated_s", sim_s}, {"wall_time_s", wall_s}, {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0}}},
+      {"files", {{"lcm_log", "session.lcmlog"}, {"terrain", world->terrain() ? "terrain_surface.png" : ""}}},
+  };
+  log_file.reset();  // closed (flushed) before the run directory is committed
+  if (world->terrain())
+    io::write_heightmap((run_dir.staging() / "terrain_surface").string(), terrain_snapshot(*world->terrain(), "surface"));
+  io::write_text_atomically((run_dir.staging() / "report.json").string(), report.dump(2) + "\n");
+  run_dir.commit();
+  std::cout << "session '" << ex.name << "' (" << mode << "): " << (tasks.passed() ? "passed" : "not passed")
+            << ", score " << tasks.score() << ", " << sim_s << " s simulated in " << wall_s << " s\n";
+  for (const TaskProgress& p : tasks.tasks())
+    std::cout << "  task " << p.id << ": " << (p.done ? "done" : "not done") << " (" << p.detail << ")\n";
+  std::cout << "wrote " << job.out_dir << "/report.json, session.lcmlog and the final terrain\n";
+  return 0;
+}
+
+}  // namespace skidsim::apps

@@ -1,0 +1,27 @@
+// A training session: `skidsim run EXERCISE`. The exercise's world, its
+// operator (a built-in script, or commands over LCM with the watchdog),
+// tasks, events and score; the machine's state and the events published on
+// LCM; a run directory with the LCM log of every channel, report.json and
+// the final terrain. Modes: fast (as fast as it goes; a script), real time
+// (paced to the wall clock; the newest command wins) and lockstep (each
+// control tick waits for the command stamped for it).
+#pragma once
+
+#include <string>
+
+namespace skidsim::apps {
+
+struct RunJob {
+  std::string exercise_path;
+  std::string out_dir = "runs/session";
+  std::string script_path;  // empty: the exercise's operator
+  std::string lcm_url;      // empty: the exercise's, else the default provider
+  std::string mode;         // fast, realtime, lockstep; empty: fast with a script, realtime over LCM
+  double max_s = 0.0;       // 0: the exercise's time limit
+};
+
+// Returns the exit code: 0 when the session ran (report.json says whether
+// it passed), 2 for bad input (io::InputError).
+int run_session(const RunJob& job);
+
+}  // namespace skidsim::apps

@@ -1,0 +1,89 @@
+// End to end: `skidsim run` plays pile-to-zone with its shipped script:
+// the task is done and scored, the LCM log decodes, the same run twice gives
+// the same final state; bad options are refused.
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "skidsim_lcm/event_t.hpp"
+#include "skidsim_lcm/state_t.hpp"
+#include "tests/app_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using skidsim::testing::run_skidsim;
+
+const std::string kScenario = std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.xml";
+const std::string kScript = std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.operator.xml";
+
+TEST(SkidsimRun, ScriptedPileToZoneIsDoneScoredAndLogged) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_e2e";
+  fs::remove_all(dir);
+  const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+  EXPECT_TRUE(report["result"]["all_tasks_done"].get<bool>());
+  EXPECT_TRUE(report["result"]["passed"].get<bool>()) << report["result"].dump();
+  EXPECT_GE(report["result"]["score"].get<double>(), report["result"]["pass_score"].get<double>());
+  EXPECT_TRUE(report["result"]["script_phases_timed_out"].empty());
+  EXPECT_GE(report["metrics"]["material_moved_kg"].get<double>(), 800.0);
+  EXPECT_TRUE(report["machine_finite"].get<bool>());
+  bool saw_done = false;
+  for (const auto& e : report["events"]) saw_done = saw_done || e["kind"] == "task_done";
+  EXPECT_TRUE(saw_done);
+  EXPECT_TRUE(fs::exists(dir / "terrain_surface.png"));
+  // The LCM log: states at 50 Hz and the events decode.
+  lcm::LogFile log((dir / "session.lcmlog").string(), "r");
+  ASSERT_TRUE(log.good());
+  int states = 0, events = 0;
+  double last_t = -1.0;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel == "SKIDSIM_STATE") {
+      skidsim_lcm::state_t s;
+      ASSERT_GE(s.decode(e->data, 0, e->datalen), 0);
+      EXPECT_GT(s.sim_time_s, last_t);
+      last_t = s.sim_time_s;
+      ++states;
+    } else if (e->channel == "SKIDSIM_EVENTS") {
+      skidsim_lcm::event_t m;
+      ASSERT_GE(m.decode(e->data, 0, e->datalen), 0);
+      ++events;
+    }
+  }
+  EXPECT_NEAR(states, report["performance"]["simulated_s"].get<double>() * 50.0, 2.0);
+  EXPECT_EQ(events, static_cast<int>(report["events"].size()));
+}
+
+TEST(SkidsimRun, SameScriptTwiceGivesTheSameFinalState) {
+  std::string hash[2];
+  for (int k = 0; k < 2; ++k) {
+    const fs::path dir = fs::temp_directory_path() / ("skidsim_run_twice_" + std::to_string(k));
+    fs::remove_all(dir);
+    const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --max-s 20 --out " + dir.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    hash[k] = nlohmann::json::parse(std::ifstream(dir / "report.json"))["final_state_hash"];
+  }
+  EXPECT_EQ(hash[0], hash[1]);
+}
+
+TEST(SkidsimRun, BadOptionsAreRefusedNamingWhatIsWrong) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_bad";
+  fs::remove_all(dir);
+  for (const auto& [args, expected] :
+       {std::pair<std::string, std::string>{"--script " + kScript + " --mode warp", "--mode 'warp'"},
+        {"--mode fast", "--mode fast needs a script"},
+        {"--script /nonexistent.xml", "/nonexistent.xml"},
+        {"--script " + kScript + " --max-s -1", "--max-s"}}) {
+    const auto r = run_skidsim("run " + kScenario + " " + args + " --out " + dir.string());
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << args << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir)) << "a refused session must write nothing";
+  }
+}
+
+}  // namespace
