@@ -111,18 +111,32 @@ int run_session(const RunJob& job) {
     const long step = world->steps();
     const double t = world->time_s();
     if (step % kStepsPerTick == 0) {
-      const skidsim_lcm::state_t state = machine_state(*world, input.neutral());
+      skidsim_lcm::state_t state = machine_state(*world, input.neutral());
+      state.score = tasks.score();
       if (player) {
         controls = player->step(state);
-      } else {
-        if (mode == "lockstep") {
-          // Wait (up to the watchdog) for the command stamped for this tick.
-          const auto deadline = std::chrono::steady_clock::now() +
-                                std::chrono::milliseconds(static_cast<int>(1000.0 * ex.operator_source.watchdog_s));
-          while (input.last_sim_step() < step && std::chrono::steady_clock::now() < deadline) bridge->wait(5, t);
-        } else {
-          bridge->poll(t);
+      } else if (mode == "lockstep") {
+        // The operator gets this tick's state first and answers with the
+        // command stamped for it; the simulator waits for it (up to the
+        // watchdog; the first one, while the operator starts, up to 10 s,
+        // the state sent again every 100 ms).
+        bridge->publish_state(state);
+        const bool first = input.stats().accepted == 0;
+        const auto start = std::chrono::steady_clock::now();
+        const auto deadline =
+            start + (first ? std::chrono::milliseconds(10000)
+                           : std::chrono::milliseconds(static_cast<int>(1000.0 * ex.operator_source.watchdog_s)));
+        auto resend = start + std::chrono::milliseconds(100);
+        while (input.last_sim_step() < step && std::chrono::steady_clock::now() < deadline) {
+          bridge->wait(5, t);
+          if (first && std::chrono::steady_clock::now() > resend) {
+            bridge->publish_state(state);
+            resend += std::chrono::milliseconds(100);
+          }
         }
+        controls = input.controls(t);
+      } else {
+        bridge->poll(t);
         controls = input.controls(t);
       }
       skidsim_lcm::control_t applied{};
@@ -147,10 +161,8 @@ int run_session(const RunJob& job) {
         if (bridge) bridge->publish_event(m);
       }
       if (step % kStepsPerState == 0) {
-        skidsim_lcm::state_t s = state;
-        s.score = tasks.score();
-        log_message(log, channels.state, s, t);
-        if (bridge) bridge->publish_state(s);
+        log_message(log, channels.state, state, t);
+        if (bridge && mode != "lockstep") bridge->publish_state(state);
       }
       if (tasks.all_done()) break;
       if (player && player->done()) {

@@ -13,6 +13,7 @@
 #include "apps/dig_job.h"
 #include "apps/pour_job.h"
 #include "apps/push_job.h"
+#include "apps/operator_job.h"
 #include "apps/run_job.h"
 #include "io/atomic_file.h"
 #include "io/exercise.h"
@@ -208,6 +209,16 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
   run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time (default: the exercise's limit)");
 
+  skidsim::apps::OperatorJob operator_job;
+  CLI::App* operator_cmd = app.add_subcommand(
+      "operator", "Play an operator script as a process of its own: listen to the simulator's state over LCM and\n"
+                  "answer each with the command for that control tick");
+  operator_cmd->add_option("script", operator_job.script_path, "Operator script")->required();
+  operator_cmd->add_option("--lcm", operator_job.lcm_url, "LCM provider (default: udpm on this host, ttl 0)");
+  operator_cmd->add_option("--channel", operator_job.control_channel, "Control channel")->capture_default_str();
+  operator_cmd->add_option("--idle-s", operator_job.idle_timeout_s, "Stop when no state came for this long")
+      ->capture_default_str();
+
   bool bench_json = false;
   std::string bench_filter, bench_out;
   double bench_min_time = 0.0;
@@ -246,6 +257,7 @@ int main(int argc, char** argv) {
     if (*push_cmd) return skidsim::apps::run_push_job(push);
     if (*dig_cmd) return skidsim::apps::run_dig_job(dig);
     if (*run_cmd) return skidsim::apps::run_session(run);
+    if (*operator_cmd) return skidsim::apps::run_operator(operator_job);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);

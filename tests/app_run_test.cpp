@@ -7,7 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <chrono>
+#include <cstdlib>
 #include <string>
+#include <thread>
 
 #include "skidsim_lcm/event_t.hpp"
 #include "skidsim_lcm/state_t.hpp"
@@ -69,6 +72,33 @@ TEST(SkidsimRun, SameScriptTwiceGivesTheSameFinalState) {
     hash[k] = nlohmann::json::parse(std::ifstream(dir / "report.json"))["final_state_hash"];
   }
   EXPECT_EQ(hash[0], hash[1]);
+}
+
+// Two processes over UDP multicast (ttl 0): `skidsim operator` answers each
+// state with its command, `skidsim run --mode lockstep` waits for it. Twice,
+// and against the same script played in-process: one final state.
+TEST(SkidsimRun, LockstepOverLcmReproducesTheScriptedRunBitForBit) {
+  const std::string url = "udpm://239.255.76.67:7683?ttl=0";
+  std::string hash[3];
+  for (int k = 0; k < 2; ++k) {
+    const fs::path dir = fs::temp_directory_path() / ("skidsim_run_lockstep_" + std::to_string(k));
+    fs::remove_all(dir);
+    const std::string op = std::string(SKIDSIM_BINARY) + " operator " + kScript + " --lcm '" + url + "' --idle-s 3";
+    ASSERT_EQ(std::system((op + " > /dev/null 2>&1 &").c_str()), 0);
+    const auto r = run_skidsim("run " + kScenario + " --mode lockstep --lcm '" + url + "' --max-s 10 --out " + dir.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+    EXPECT_EQ(report["controls"]["watchdog_trips"], 0) << "every tick's command must arrive";
+    EXPECT_EQ(report["controls"]["accepted"], 1000);
+    hash[k] = report["final_state_hash"];
+    std::this_thread::sleep_for(std::chrono::milliseconds(3500));  // the operator stops (no more state)
+  }
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_lockstep_fast";
+  fs::remove_all(dir);
+  ASSERT_EQ(run_skidsim("run " + kScenario + " --script " + kScript + " --max-s 10 --out " + dir.string()).exit_code, 0);
+  hash[2] = nlohmann::json::parse(std::ifstream(dir / "report.json"))["final_state_hash"];
+  EXPECT_EQ(hash[0], hash[1]);
+  EXPECT_EQ(hash[0], hash[2]) << "over LCM in lockstep the session is the in-process one";
 }
 
 TEST(SkidsimRun, BadOptionsAreRefusedNamingWhatIsWrong) {

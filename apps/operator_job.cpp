@@ -1,0 +1,60 @@
+#include "apps/operator_job.h"
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <chrono>
+#include <iostream>
+
+#include "apps/operator_player.h"
+#include "io/atomic_file.h"
+#include "io/lcm_bridge.h"
+#include "skidsim_lcm/control_t.hpp"
+
+namespace skidsim::apps {
+
+int run_operator(const OperatorJob& job) {
+  OperatorPlayer player(io::load_operator_script(job.script_path));
+  const std::string url = job.lcm_url.empty() ? std::string(io::kDefaultLcmUrl) : job.lcm_url;
+  lcm::LCM lcm(url);
+  if (!lcm.good()) throw io::InputError("LCM provider '" + url + "' could not be opened");
+  if (!(job.idle_timeout_s > 0.0)) throw io::InputError("--idle-s: expected > 0");
+  struct Handler {
+    OperatorPlayer* player;
+    lcm::LCM* lcm;
+    std::string channel;
+    std::int64_t seq = 0, last_step = -1;
+    void on_state(const lcm::ReceiveBuffer*, const std::string&, const skidsim_lcm::state_t* s) {
+      if (s->step <= last_step) return;  // a state sent again while the simulator waits
+      last_step = s->step;
+      const vehicle::LoaderControls c = player->step(*s);
+      skidsim_lcm::control_t m{};
+      m.seq = ++seq;
+      m.sender_time_us =
+          std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+              .count();
+      m.sim_step = s->step;
+      m.drive_left = c.drive_left;
+      m.drive_right = c.drive_right;
+      m.lift = c.lift;
+      m.tilt = c.tilt;
+      m.throttle = c.throttle;
+      m.parking_brake = c.parking_brake;
+      lcm->publish(channel, &m);
+    }
+  } handler{&player, &lcm, job.control_channel};
+  lcm.subscribe(job.state_channel, &Handler::on_state, &handler);
+  auto last_state = std::chrono::steady_clock::now();
+  while (!player.done()) {
+    if (lcm.handleTimeout(200) > 0) {
+      last_state = std::chrono::steady_clock::now();
+    } else if (std::chrono::steady_clock::now() - last_state > std::chrono::duration<double>(job.idle_timeout_s)) {
+      std::cerr << "skidsim operator: no state from the simulator for " << job.idle_timeout_s << " s; stopping\n";
+      return 1;
+    }
+  }
+  std::cout << "operator: script '" << job.script_path << "' finished after " << handler.seq << " commands\n";
+  for (const std::string& t : player.timed_out()) std::cout << "  timed out: " << t << "\n";
+  return 0;
+}
+
+}  // namespace skidsim::apps
