@@ -2,6 +2,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <iostream>
 
@@ -28,6 +30,7 @@ int run_operator(const OperatorJob& job) {
       last_step = s->step;
       const vehicle::LoaderControls c = player->step(*s);
       skidsim_lcm::control_t m{};
+      m.sender_id = sender_id;
       m.seq = ++seq;
       m.sender_time_us =
           std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
@@ -41,7 +44,11 @@ int run_operator(const OperatorJob& job) {
       m.parking_brake = c.parking_brake;
       lcm->publish(channel, &m);
     }
+    std::int64_t sender_id = 0;
   } handler{&player, &lcm, job.control_channel};
+  // A restart is a new sender (the simulator then accepts a new count).
+  handler.sender_id = static_cast<std::int64_t>(
+      std::chrono::steady_clock::now().time_since_epoch().count() ^ (static_cast<std::int64_t>(::getpid()) << 32));
   lcm.subscribe(job.state_channel, &Handler::on_state, &handler);
   auto last_state = std::chrono::steady_clock::now();
   while (!player.done()) {

@@ -155,7 +155,11 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
       break;
   }
   last_ = {c.drive_left, c.drive_right, c.lift, c.tilt, c.throttle, c.parking_brake};
-  if (!goal && in_phase > p.time_limit_s) {
+  // A timed phase runs its whole duration whatever its limit.
+  const bool timed = p.kind == io::ScriptPhase::Kind::kHold || p.kind == io::ScriptPhase::Kind::kRamp ||
+                     p.kind == io::ScriptPhase::Kind::kWait;
+  const double limit = timed ? std::max(p.time_limit_s, p.duration_s + 1.0) : p.time_limit_s;
+  if (!goal && in_phase > limit) {
     timed_out_.push_back("line " + std::to_string(p.line) + " " + io::phase_kind_name(p.kind));
     goal = true;
   }

@@ -26,6 +26,7 @@ using nlohmann::json;
 
 constexpr int kStepsPerTick = 5;        // controls every 10 ms
 constexpr int kStepsPerState = 10;      // state published at 50 Hz
+constexpr int kMissedTicksToEnd = 25;   // lockstep: this many ticks in a row without a command ends the session
 
 // FNV-1a over the bytes of what defines the final state: the terrain, the
 // bucket's and beds' loads, the machine's pose.
@@ -104,6 +105,9 @@ int run_session(const RunJob& job) {
   vehicle::LoaderControls controls;
   controls.parking_brake = true;
   std::int64_t seq = 0;
+  long missed_ticks = 0, missed_in_a_row = 0;
+  std::int64_t watchdog_trips_seen = 0;
+  std::string end_reason = "time_limit";
   const auto wall_start = std::chrono::steady_clock::now();
   bool script_done_at_set = false;
   double script_done_s = 0.0;
@@ -111,8 +115,9 @@ int run_session(const RunJob& job) {
     const long step = world->steps();
     const double t = world->time_s();
     if (step % kStepsPerTick == 0) {
-      skidsim_lcm::state_t state = machine_state(*world, input.neutral());
+      skidsim_lcm::state_t state = machine_state(*world, !player && input.neutral());
       state.score = tasks.score();
+      state.active_task = tasks.active_task();
       if (player) {
         controls = player->step(state);
       } else if (mode == "lockstep") {
@@ -121,10 +126,10 @@ int run_session(const RunJob& job) {
         // watchdog; the first one, while the operator starts, up to 10 s,
         // the state sent again every 100 ms).
         bridge->publish_state(state);
-        const bool first = input.stats().accepted == 0;
+        const bool first = step == 0;
         const auto start = std::chrono::steady_clock::now();
         const auto deadline =
-            start + (first ? std::chrono::milliseconds(10000)
+            start + (first ? std::chrono::milliseconds(5000)
                            : std::chrono::milliseconds(static_cast<int>(1000.0 * ex.operator_source.watchdog_s)));
         auto resend = start + std::chrono::milliseconds(100);
         while (input.last_sim_step() < step && std::chrono::steady_clock::now() < deadline) {
@@ -134,7 +139,18 @@ int run_session(const RunJob& job) {
             resend += std::chrono::milliseconds(100);
           }
         }
+        if (input.last_sim_step() < step) {
+          ++missed_ticks;
+          ++missed_in_a_row;
+        } else {
+          missed_in_a_row = 0;
+        }
         controls = input.controls(t);
+        // The operator has gone (or finished): a lockstep session cannot go on.
+        if (missed_in_a_row >= kMissedTicksToEnd) {
+          end_reason = "operator_gone";
+          break;
+        }
       } else {
         bridge->poll(t);
         controls = input.controls(t);
@@ -150,6 +166,10 @@ int run_session(const RunJob& job) {
       applied.parking_brake = controls.parking_brake;
       log_message(log, channels.control + "_APPLIED", applied, t);
       tasks.update(*world, kStepsPerTick * engine::kStepSeconds);
+      if (input.stats().watchdog_trips > watchdog_trips_seen) {
+        watchdog_trips_seen = input.stats().watchdog_trips;
+        tasks.add_event(t, "watchdog", "no command from the operator: levers to neutral, parking brake on", 1);
+      }
       for (const SessionEvent& e : tasks.take_events()) {
         skidsim_lcm::event_t m{};
         m.step = step;
@@ -164,13 +184,19 @@ int run_session(const RunJob& job) {
         log_message(log, channels.state, state, t);
         if (bridge && mode != "lockstep") bridge->publish_state(state);
       }
-      if (tasks.all_done()) break;
+      if (tasks.all_done()) {
+        end_reason = "tasks_done";
+        break;
+      }
       if (player && player->done()) {
         if (!script_done_at_set) {
           script_done_at_set = true;
           script_done_s = t;
         }
-        if (t - script_done_s > 1.0) break;  // the script has finished: one more second to settle
+        if (t - script_done_s > 1.0) {  // the script has finished: one more second to settle
+          end_reason = "script_done";
+          break;
+        }
       }
     }
     world->step(controls);
@@ -215,6 +241,8 @@ int run_session(const RunJob& job) {
                     {"rejected_stale", cs.rejected_stale}, {"malformed", cs.malformed},
                     {"watchdog_trips", cs.watchdog_trips}}},
       {"final_state_hash", hash},
+      {"end_reason", end_reason},
+      {"lockstep_missed_ticks", missed_ticks},
       {"machine_finite", world->events().finite},
       {"performance", {{"simulated_s", sim_s}, {"wall_time_s", wall_s}, {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0}}},
       {"files", {{"lcm_log", "session.lcmlog"}, {"terrain", world->terrain() ? "terrain_surface.png" : ""}}},

@@ -48,19 +48,38 @@ SessionTasks::SessionTasks(const io::Exercise& exercise, const engine::World& wo
     next_gate_.push_back(0);
   }
   fired_.assign(exercise.events.size(), false);
-  was_in_zone_.assign(exercise.zones.size(), false);
+  const Eigen::Vector2d start = world.loader().link_pose(0).translation().head<2>();
+  for (const io::Zone& z : exercise.zones) was_in_zone_.push_back(z.region.contains(start));
+}
+
+Eigen::AlignedBox2i SessionTasks::zone_cells(const engine::World& w, const io::Zone& z) const {
+  const terrain::GranularGrid* g = w.terrain();
+  Eigen::AlignedBox2i cells(Eigen::Vector2i(0, 0), Eigen::Vector2i(0, 0));
+  if (!g) return cells;
+  // Cells whose centres lie in the zone.
+  const Eigen::Vector2d lo = (z.region.min() - g->spec().origin_m) / g->cell_size_m();
+  const Eigen::Vector2d hi = (z.region.max() - g->spec().origin_m) / g->cell_size_m();
+  const auto clampi = [](double v, int n) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(n))); };
+  cells.min() = Eigen::Vector2i(clampi(std::ceil(lo.x()), g->nx()), clampi(std::ceil(lo.y()), g->ny()));
+  cells.max() = Eigen::Vector2i(clampi(std::floor(hi.x()) + 1, g->nx()), clampi(std::floor(hi.y()) + 1, g->ny()));
+  return cells;
 }
 
 double SessionTasks::zone_material_kg(const engine::World& w, const std::string& id) const {
   const io::Zone* z = find_zone(exercise_, id);
   const terrain::GranularGrid* g = w.terrain();
   if (!z || !g) return 0.0;
+  const Eigen::AlignedBox2i c = zone_cells(w, *z);
   double kg = 0.0;
-  for (int j = 0; j < g->ny(); ++j)
-    for (int i = 0; i < g->nx(); ++i)
-      if (z->region.contains(Eigen::Vector2d(g->spec().origin_m + g->cell_size_m() * Eigen::Vector2d(i, j))))
-        kg += g->material_mass_kg(i, j);
+  for (int j = c.min().y(); j < c.max().y(); ++j)
+    for (int i = c.min().x(); i < c.max().x(); ++i) kg += g->material_mass_kg(i, j);
   return kg;
+}
+
+std::string SessionTasks::active_task() const {
+  for (const TaskProgress& p : tasks_)
+    if (!p.done) return p.id;
+  return "";
 }
 
 void SessionTasks::emit(double t, const std::string& kind, const std::string& text, int severity) {
@@ -76,7 +95,8 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   for (std::size_t k = 0; k < tasks_.size(); ++k) {
     const io::Task& task = exercise_.tasks[k];
     TaskProgress& p = tasks_[k];
-    if (p.done) continue;
+    // Progress is measured every tick, done or not (material delivered
+    // stays counted); a task that is done stays done.
     std::ostringstream d;
     switch (task.type) {
       case io::Task::Type::kMoveMaterial:
@@ -116,13 +136,14 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
         const io::Zone* z = find_zone(exercise_, task.to);
         const terrain::GranularGrid* g = w.terrain();
         long cells = 0, within = 0;
-        if (z && g)
-          for (int j = 0; j < g->ny(); ++j)
-            for (int i = 0; i < g->nx(); ++i)
-              if (z->region.contains(Eigen::Vector2d(g->spec().origin_m + g->cell_size_m() * Eigen::Vector2d(i, j)))) {
-                ++cells;
-                within += std::abs(g->surface_m(i, j) - task.height_m) <= task.tolerance_m;
-              }
+        if (z && g) {
+          const Eigen::AlignedBox2i c = zone_cells(w, *z);
+          for (int j = c.min().y(); j < c.max().y(); ++j)
+            for (int i = c.min().x(); i < c.max().x(); ++i) {
+              ++cells;
+              within += std::abs(g->surface_m(i, j) - task.height_m) <= task.tolerance_m;
+            }
+        }
         p.progress = cells > 0 ? static_cast<double>(within) / static_cast<double>(cells) : 0.0;
         d << within << " of " << cells << " cells within " << task.tolerance_m << " m of " << task.height_m << " m";
         break;
@@ -130,7 +151,7 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
     }
     p.detail = d.str();
     const double limit = task.time_limit_s > 0.0 ? task.time_limit_s : exercise_.time_limit_s;
-    if (p.progress >= 1.0 && t <= limit) {
+    if (!p.done && p.progress >= 1.0 && t <= limit) {
       p.done = true;
       p.done_at_s = t;
       emit(t, "task_done", "task '" + p.id + "' done: " + p.detail);
@@ -147,12 +168,16 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
     if (l.description().wheels[k].hub_m.x() < 0.0) rear += l.wheels()[k].normal_load_N;
     worst_slip = std::max(worst_slip, std::abs(l.wheels()[k].slip_ratio));
   }
+  // A scare counts once: it re-arms only after the rear axle has carried
+  // a tenth of the load again for 0.2 s.
   const bool tipping = total > 0.0 && rear < 0.05 * total;
+  rear_loaded_s_ = (total > 0.0 && rear > 0.1 * total) ? rear_loaded_s_ + dt_s : 0.0;
   if (tipping && !tipping_) {
     metrics_.tipping_margin_violations += 1.0;
     emit(t, "warning", "the rear wheels lifted: the machine is tipping forward", 2);
+    tipping_ = true;
   }
-  tipping_ = tipping;
+  if (tipping_ && rear_loaded_s_ >= 0.2) tipping_ = false;
   if (l.chassis_velocity().head<2>().norm() < 0.05) metrics_.idle_time_s += dt_s;
   if (worst_slip > 0.3) metrics_.wheel_slip_time_s += dt_s;
   const Eigen::AlignedBox2d site(Eigen::Vector2d::Zero(), exercise_.site_size_m);
@@ -163,10 +188,9 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
     const io::Event& e = exercise_.events[k];
     bool fire = false;
     if (e.when == io::Event::When::kAtTime) fire = t >= e.at_s;
-    if (e.when == io::Event::When::kEnterZone) {
-      const io::Zone* z = find_zone(exercise_, e.subject);
-      fire = z && z->region.contains(xy);
-    }
+    if (e.when == io::Event::When::kEnterZone)
+      for (std::size_t zi = 0; zi < exercise_.zones.size(); ++zi)
+        if (exercise_.zones[zi].id == e.subject) fire = !was_in_zone_[zi] && exercise_.zones[zi].region.contains(xy);
     if (e.when == io::Event::When::kTaskDone)
       for (const TaskProgress& p : tasks_) fire = fire || (p.id == e.subject && p.done);
     if (fire) {
@@ -174,6 +198,7 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
       emit(t, "message", e.message);
     }
   }
+  for (std::size_t zi = 0; zi < exercise_.zones.size(); ++zi) was_in_zone_[zi] = exercise_.zones[zi].region.contains(xy);
 }
 
 bool SessionTasks::all_done() const {

@@ -3,6 +3,8 @@
 // once per control tick, never inside the 2 ms step.
 #pragma once
 
+#include <Eigen/Geometry>
+
 #include <string>
 #include <vector>
 
@@ -44,6 +46,11 @@ class SessionTasks {
   void update(const engine::World& world, double dt_s);
   bool all_done() const;
   const std::vector<TaskProgress>& tasks() const { return tasks_; }
+  void add_event(double t, const std::string& kind, const std::string& text, int severity) {
+    emit(t, kind, text, severity);
+  }
+  // The first task not done ("" when all are).
+  std::string active_task() const;
   // Events since the last call (moved out).
   std::vector<SessionEvent> take_events();
   const std::vector<SessionEvent>& all_events() const { return log_; }
@@ -55,6 +62,8 @@ class SessionTasks {
 
  private:
   double zone_material_kg(const engine::World& w, const std::string& zone) const;
+  // The grid cells a zone covers: [i0, i1) x [j0, j1) (empty off the grid).
+  Eigen::AlignedBox2i zone_cells(const engine::World& w, const io::Zone& zone) const;
   void emit(double t, const std::string& kind, const std::string& text, int severity = 0);
 
   const io::Exercise& exercise_;
@@ -62,7 +71,8 @@ class SessionTasks {
   std::vector<double> baseline_kg_;     // per task: material in its target at the start
   std::vector<std::size_t> next_gate_;  // drive_course
   std::vector<bool> fired_;             // per exercise event
-  std::vector<bool> was_in_zone_;       // per zone
+  std::vector<bool> was_in_zone_;       // per zone: the machine was in it at the last tick
+  double rear_loaded_s_ = 1e9;          // how long the rear axle has carried load again (tipping re-arm)
   std::vector<SessionEvent> pending_, log_;
   Metrics metrics_;
   bool tipping_ = false;

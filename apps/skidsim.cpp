@@ -15,6 +15,8 @@
 #include "apps/push_job.h"
 #include "apps/operator_job.h"
 #include "apps/run_job.h"
+#include "apps/session_world.h"
+#include "io/operator_script.h"
 #include "io/atomic_file.h"
 #include "io/exercise.h"
 #include "io/loader_files.h"
@@ -88,7 +90,11 @@ int check_loader(const std::string& path, bool json) {
 // what the session would build, without running it.
 int check_exercise(const std::string& path, bool json) {
   const skidsim::io::Exercise e = skidsim::io::load_exercise(path);
-  skidsim::io::load_loader(e.machine.loader);
+  const skidsim::vehicle::LoaderDescription loader = skidsim::io::load_loader(e.machine.loader);
+  if (e.operator_source.kind == skidsim::io::OperatorSource::Kind::kScript)
+    skidsim::io::load_operator_script(e.operator_source.script);
+  // What the session would build, built once (refusals name the file).
+  skidsim::apps::build_session_world(e, loader, skidsim::io::load_soil_table(skidsim::io::default_soil_table_path()));
   nlohmann::json j;
   j["exercise"] = e.name;
   j["file"] = path;

@@ -18,7 +18,7 @@ bool ControlInput::offer(const skidsim_lcm::control_t& m, double sim_time_s) {
       ++stats_.rejected_nan;
       return false;
     }
-  if (have_command_ && m.seq <= last_seq_) {
+  if (have_command_ && m.sender_id == last_sender_ && m.seq <= last_seq_) {
     ++stats_.rejected_stale;
     return false;
   }
@@ -37,6 +37,7 @@ bool ControlInput::offer(const skidsim_lcm::control_t& m, double sim_time_s) {
   stats_.clamped += clamped;
   ++stats_.accepted;
   last_seq_ = m.seq;
+  last_sender_ = m.sender_id;
   last_sim_step_ = m.sim_step;
   newest_time_s_ = sim_time_s;
   have_command_ = true;

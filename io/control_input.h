@@ -28,7 +28,9 @@ class ControlInput {
   explicit ControlInput(double watchdog_s);
 
   // A received command at simulated time `sim_time_s`: kept as the newest
-  // if valid (clamped into range). Returns false when rejected.
+  // if valid (clamped into range). Returns false when rejected. A command
+  // from a new sender (another sender_id: an operator restarted) starts its
+  // own sequence.
   bool offer(const skidsim_lcm::control_t& command, double sim_time_s);
   void count_malformed() { ++stats_.malformed; }
 
@@ -48,6 +50,7 @@ class ControlInput {
   bool have_command_ = false;
   bool neutral_ = true;
   std::int64_t last_seq_ = 0;
+  std::int64_t last_sender_ = 0;
   std::int64_t last_sim_step_ = -1;
   ControlStats stats_;
 };

@@ -122,6 +122,7 @@ struct Reader {
       const std::string name = c->Name();
       AttributeReader b(path, c);
       if (name == "soil") {
+        if (!ex.soils.empty()) b.fail("this version builds one <soil> per exercise");
         if (!table_read) {
           table = load_soil_table(table_path);
           table_read = true;
@@ -144,7 +145,9 @@ struct Reader {
         o.yaw_deg = b.number_or("yaw_deg", 0.0);
         b.reject_unknown();
         if (!(o.size_m.minCoeff() > 0.0 && o.size_m.maxCoeff() <= 100.0)) b.fail("attribute 'size': each side in (0, 100] m");
-        on_site(b, Eigen::Vector2d(o.centre_m.head<2>()), "the box's centre");
+        on_site(b, footprint(o.centre_m.head<2>() - rotate(0.5 * o.size_m.head<2>(), o.yaw_deg), o.size_m.x(),
+                             o.size_m.y(), o.yaw_deg),
+                "the box");
         ex.boxes.push_back(o);
       } else if (name == "truck") {
         TruckBed t;
@@ -157,13 +160,38 @@ struct Reader {
         t.floor_height_m = b.number_in("floor_height_m", 0.0, 5.0);
         t.wall_height_m = b.number_in("wall_height_m", 0.05, 3.0);
         b.reject_unknown();
-        on_site(b, t.back_corner_m, "the truck bed's corner");
+        on_site(b, footprint(t.back_corner_m, t.length_m, t.width_m, t.yaw_deg), "the truck bed");
         ex.trucks.push_back(t);
       } else {
         b.fail("unknown element (expected <soil>, <zone>, <box> or <truck>)");
       }
     }
     if (!ex.firm_ground && ex.soils.empty()) a.fail("a site without firm ground needs a <soil>");
+  }
+
+  // A length x width rectangle from `corner` along yaw: its bounds.
+  static Eigen::Vector2d rotate(const Eigen::Vector2d& v, double yaw_deg) {
+    return Eigen::Rotation2Dd(yaw_deg * 3.14159265358979323846 / 180.0) * v;
+  }
+  static Region footprint(const Eigen::Vector2d& corner, double length, double width, double yaw_deg) {
+    Region r(corner, corner);
+    for (const Eigen::Vector2d& c : {Eigen::Vector2d(length, 0), Eigen::Vector2d(0, width), Eigen::Vector2d(length, width)})
+      r.extend(corner + rotate(c, yaw_deg));
+    return r;
+  }
+  // The machine must start on the ground, not inside an obstacle or a bed.
+  void check_start(AttributeReader& a) const {
+    const Eigen::Vector2d p = ex.machine.position_m;
+    if (!ex.firm_ground &&
+        std::none_of(ex.soils.begin(), ex.soils.end(), [&](const SoilSite& s) { return s.region.contains(p); }))
+      a.fail("the machine starts where there is neither firm ground nor soil");
+    for (const BoxObstacle& o : ex.boxes)
+      if (footprint(o.centre_m.head<2>() - rotate(0.5 * o.size_m.head<2>(), o.yaw_deg), o.size_m.x(), o.size_m.y(), o.yaw_deg)
+              .exteriorDistance(p) < 1.0)
+        a.fail("the machine starts within 1 m of box '" + o.id + "'");
+    for (const TruckBed& t : ex.trucks)
+      if (footprint(t.back_corner_m, t.length_m, t.width_m, t.yaw_deg).exteriorDistance(p) < 1.0)
+        a.fail("the machine starts within 1 m of truck '" + t.id + "'");
   }
 
   bool is(const std::vector<Zone>& v, const std::string& id) const {
@@ -308,6 +336,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
       m.tilt_rad = a.has("tilt_rad") ? a.number_in("tilt_rad", -0.6, 2.4) : m.tilt_rad;
       a.reject_unknown();
       r.on_site(a, m.position_m, "the machine's start");
+      r.check_start(a);
     } else if (name == "operator") {
       once(have_operator);
       OperatorSource& o = r.ex.operator_source;

@@ -101,6 +101,25 @@ TEST(SkidsimRun, LockstepOverLcmReproducesTheScriptedRunBitForBit) {
   EXPECT_EQ(hash[0], hash[2]) << "over LCM in lockstep the session is the in-process one";
 }
 
+// Lockstep with no operator answering: the session waits 5 s for the
+// first command, then ends once 25 ticks in a row went unanswered, and says
+// why; it does not wait out the exercise's 10 minutes.
+TEST(SkidsimRun, LockstepWithoutAnOperatorEndsAndSaysWhy) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_no_operator";
+  fs::remove_all(dir);
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = run_skidsim("run " + kScenario + " --mode lockstep --lcm 'udpm://239.255.76.67:7685?ttl=0' --out " +
+                             dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+  EXPECT_EQ(report["end_reason"], "operator_gone");
+  EXPECT_EQ(report["lockstep_missed_ticks"], 25);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60));
+  bool saw_watchdog = false;
+  for (const auto& e : report["events"]) saw_watchdog = saw_watchdog || e["kind"] == "watchdog";
+  EXPECT_FALSE(saw_watchdog) << "no command ever came: nothing to trip";
+}
+
 TEST(SkidsimRun, BadOptionsAreRefusedNamingWhatIsWrong) {
   const fs::path dir = fs::temp_directory_path() / "skidsim_run_bad";
   fs::remove_all(dir);

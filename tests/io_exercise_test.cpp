@@ -99,7 +99,14 @@ INSTANTIATE_TEST_SUITE_P(
                 "  <event when=\"time\" at_s=\"0\" message=\"Fill the bucket at the pile and dump the sand in the marked "
                 "zone.\"/>\n  <event when=\"task_done\" task=\"move\" message=\"Done: 800 kg in the zone.\"/>\n",
                 "", {"at least one <task>"}},
-        BadCase{"</exercise>", "", {"XML"}}));
+        BadCase{"</exercise>", "", {"XML"}},
+        BadCase{"    <zone id=\"target\"", "    <soil id=\"yard2\" region=\"1 1 3 3\" cell_m=\"0.05\" depth_m=\"0.1\" type=\"dry_sand\"/>\n    <zone id=\"target\"",
+                {"<soil>", "one <soil> per exercise"}},
+        BadCase{"  </site>", "    <truck id=\"t\" back_corner=\"18 10\" length_m=\"4\" width_m=\"2\" floor_height_m=\"1\" wall_height_m=\"0.3\"/>\n  </site>",
+                {"<truck>", "the truck bed", "off the"}},
+        BadCase{"  </site>", "    <box id=\"b\" centre=\"3.5 10 0.5\" size=\"1 1 1\"/>\n  </site>",
+                {"<machine>", "within 1 m of box 'b'"}},
+        BadCase{"firm_ground=\"true\"", "firm_ground=\"false\"", {"<machine>", "neither firm ground nor soil"}}));
 
 }  // namespace
 }  // namespace skidsim::io

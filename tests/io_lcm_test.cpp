@@ -49,6 +49,18 @@ TEST(ControlInput, ClampsOutOfRangeRejectsNanAndStaleAndCountsEach) {
   EXPECT_EQ(in.stats().rejected_stale, 1);
 }
 
+TEST(ControlInput, RestartedOperatorIsANewSenderNotStale) {
+  ControlInput in(0.2);
+  skidsim_lcm::control_t a = command(500);
+  a.sender_id = 11;
+  EXPECT_TRUE(in.offer(a, 0.0));
+  skidsim_lcm::control_t b = command(1, 0.9);
+  b.sender_id = 12;  // the operator restarted: its count starts again
+  EXPECT_TRUE(in.offer(b, 0.5));
+  EXPECT_EQ(in.controls(0.5).drive_left, 0.9);
+  EXPECT_EQ(in.stats().rejected_stale, 0);
+}
+
 TEST(ControlInput, WatchdogReturnsToNeutralWhenCommandsStop) {
   ControlInput in(0.2);
   EXPECT_TRUE(in.neutral());
