@@ -120,6 +120,46 @@ TEST(SkidsimRun, LockstepWithoutAnOperatorEndsAndSaysWhy) {
   EXPECT_FALSE(saw_watchdog) << "no command ever came: nothing to trip";
 }
 
+// The real lcm-logger records the state channel of a live session (its
+// own process, on the network); the log decodes.
+TEST(SkidsimRun, LcmLoggerRecordsALiveSession) {
+  const std::string url = "udpm://239.255.76.67:7687?ttl=0";
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_logger";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path log_path = dir / "recorded.lcmlog";
+  const fs::path pid_path = dir / "logger.pid";
+  const std::string logger = "lcm-logger -q -f --lcm-url='" + url + "' " + log_path.string() + " > /dev/null 2>&1 & echo $! > " +
+                             pid_path.string();
+  ASSERT_EQ(std::system(logger.c_str()), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // subscribed before the session starts
+  const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --lcm '" + url + "' --max-s 5 --out " +
+                             (dir / "run").string());
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the logger flushes every 100 ms
+  std::ifstream pid_file(pid_path);
+  long pid = 0;
+  pid_file >> pid;
+  ASSERT_GT(pid, 0);
+  std::system(("kill -INT " + std::to_string(pid)).c_str());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  lcm::LogFile log(log_path.string(), "r");
+  ASSERT_TRUE(log.good());
+  int states = 0;
+  double last_t = -1.0;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel != "SKIDSIM_STATE") continue;
+    skidsim_lcm::state_t s;
+    ASSERT_GE(s.decode(e->data, 0, e->datalen), 0);
+    EXPECT_GT(s.sim_time_s, last_t);
+    last_t = s.sim_time_s;
+    ++states;
+  }
+  EXPECT_GE(states, 240) << "5 s of state at 50 Hz (a few may be lost on UDP)";
+  EXPECT_NEAR(last_t, 5.0, 0.05);
+  fs::remove_all(dir);
+}
+
 TEST(SkidsimRun, BadOptionsAreRefusedNamingWhatIsWrong) {
   const fs::path dir = fs::temp_directory_path() / "skidsim_run_bad";
   fs::remove_all(dir);
