@@ -75,11 +75,41 @@ int run_session(const RunJob& job) {
       !job.script_path.empty() ? job.script_path
                                : (ex.operator_source.kind == io::OperatorSource::Kind::kScript ? ex.operator_source.script : "");
   std::unique_ptr<OperatorPlayer> player;
-  if (!script_path.empty()) player = std::make_unique<OperatorPlayer>(io::load_operator_script(script_path));
-  const std::string mode = !job.mode.empty() ? job.mode : (player ? "fast" : "realtime");
+  // A replay: the controls a recorded session applied, by control tick.
+  std::vector<vehicle::LoaderControls> replay;
+  const bool replaying = !job.replay_path.empty();
+  if (replaying) {
+    lcm::LogFile recorded(job.replay_path, "r");
+    if (!recorded.good()) throw io::InputError(job.replay_path + ": cannot read the LCM log");
+    while (const lcm::LogEvent* e = recorded.readNextEvent()) {
+      if (e->channel != ex.operator_source.channel + "_APPLIED") continue;
+      skidsim_lcm::control_t m{};
+      if (m.decode(e->data, 0, e->datalen) < 0 || m.sim_step < 0 || m.sim_step % kStepsPerTick != 0)
+        throw io::InputError(job.replay_path + ": a malformed applied-control message at " +
+                             std::to_string(e->timestamp) + " us");
+      const auto tick = static_cast<std::size_t>(m.sim_step / kStepsPerTick);
+      if (tick != replay.size())
+        throw io::InputError(job.replay_path + ": applied controls are not one per tick from the start (tick " +
+                             std::to_string(tick) + ")");
+      vehicle::LoaderControls c;
+      c.drive_left = m.drive_left;
+      c.drive_right = m.drive_right;
+      c.lift = m.lift;
+      c.tilt = m.tilt;
+      c.throttle = m.throttle;
+      c.parking_brake = m.parking_brake;
+      replay.push_back(c);
+    }
+    if (replay.empty()) throw io::InputError(job.replay_path + ": no applied controls on " + ex.operator_source.channel + "_APPLIED");
+    if (!script_path.empty() && !job.script_path.empty()) throw io::InputError("--replay and --script: give one");
+  }
+  if (!script_path.empty() && !replaying) player = std::make_unique<OperatorPlayer>(io::load_operator_script(script_path));
+  const std::string mode = !job.mode.empty() ? job.mode : ((player || replaying) ? "fast" : "realtime");
+  if (replaying && mode != "fast") throw io::InputError("--replay runs in mode fast");
   if (mode != "fast" && mode != "realtime" && mode != "lockstep")
     throw io::InputError("--mode '" + mode + "': expected fast, realtime or lockstep");
-  if (mode == "fast" && !player) throw io::InputError("--mode fast needs a script (--script, or <operator source=\"script\">)");
+  if (mode == "fast" && !player && !replaying)
+    throw io::InputError("--mode fast needs a script (--script, or <operator source=\"script\">) or --replay");
   if (!(job.max_s >= 0.0 && job.max_s <= 86400.0)) throw io::InputError("--max-s: expected 0 to 86400 s");
   // LCM: the operator's commands when there is no script; state and events
   // out whenever a provider is named (or the operator is on LCM).
@@ -90,7 +120,7 @@ int run_session(const RunJob& job) {
                                                                 : std::string(io::kDefaultLcmUrl);
   io::LcmChannels channels;
   channels.control = ex.operator_source.channel;
-  if (!player || !job.lcm_url.empty()) bridge = std::make_unique<io::LcmBridge>(url, channels, &input);
+  if ((!player && !replaying) || !job.lcm_url.empty()) bridge = std::make_unique<io::LcmBridge>(url, channels, &input);
 
   auto world = build_session_world(ex, loader, soils);
   SessionTasks tasks(ex, *world);
@@ -118,7 +148,14 @@ int run_session(const RunJob& job) {
       skidsim_lcm::state_t state = machine_state(*world, !player && input.neutral());
       state.score = tasks.score();
       state.active_task = tasks.active_task();
-      if (player) {
+      if (replaying) {
+        const auto tick = static_cast<std::size_t>(step / kStepsPerTick);
+        if (tick >= replay.size()) {
+          end_reason = "replay_done";
+          break;
+        }
+        controls = replay[tick];
+      } else if (player) {
         controls = player->step(state);
       } else if (mode == "lockstep") {
         // The operator gets this tick's state first and answers with the
@@ -230,7 +267,9 @@ int run_session(const RunJob& job) {
   const json report = {
       {"exercise", {{"name", ex.name}, {"file", ex.path}}},
       {"mode", mode},
-      {"operator", player ? "script " + script_path : "lcm " + url + " channel " + channels.control},
+      {"operator", replaying ? "replay " + job.replay_path
+                   : player  ? "script " + script_path
+                             : "lcm " + url + " channel " + channels.control},
       {"result", {{"passed", tasks.passed()}, {"score", tasks.score()}, {"pass_score", ex.scoring.pass_score},
                   {"all_tasks_done", tasks.all_done()}, {"tasks", task_list},
                   {"script_phases_timed_out", player ? json(player->timed_out()) : json::array()}}},

@@ -17,6 +17,7 @@ struct RunJob {
   std::string script_path;  // empty: the exercise's operator
   std::string lcm_url;      // empty: the exercise's, else the default provider
   std::string mode;         // fast, realtime, lockstep; empty: fast with a script, realtime over LCM
+  std::string replay_path;  // a session's session.lcmlog: its applied controls, tick by tick (mode fast)
   double max_s = 0.0;       // 0: the exercise's time limit
 };
 

@@ -214,6 +214,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--lcm", run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
   run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
   run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time (default: the exercise's limit)");
+  run_cmd->add_option("--replay", run.replay_path,
+                      "Replay a session: the controls its session.lcmlog applied, tick by tick (the same final state)");
 
   skidsim::apps::OperatorJob operator_job;
   CLI::App* operator_cmd = app.add_subcommand(
