@@ -295,7 +295,8 @@ int run_session(const RunJob& job) {
             << ", score " << tasks.score() << ", " << sim_s << " s simulated in " << wall_s << " s\n";
   for (const TaskProgress& p : tasks.tasks())
     std::cout << "  task " << p.id << ": " << (p.done ? "done" : "not done") << " (" << p.detail << ")\n";
-  std::cout << "wrote " << job.out_dir << "/report.json, session.lcmlog and the final terrain\n";
+  std::cout << "wrote " << job.out_dir << "/report.json, session.lcmlog" << (world->terrain() ? " and the final terrain" : "")
+            << "\n";
   return 0;
 }
 

@@ -83,6 +83,25 @@ TEST(SkidsimRun, ReplayingASessionsLogReproducesItsFinalState) {
   EXPECT_EQ(run_skidsim("run " + kScenario + " --replay " + rep.string() + ".bad --out " + rep.string() + "2").exit_code, 2);
 }
 
+// The driving course: firm ground only (no soil automaton, no terrain
+// written), four gates in order, done and passed with its script.
+TEST(SkidsimRun, DrivingCourseIsDoneWithItsScriptOnFirmGround) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_course";
+  fs::remove_all(dir);
+  const std::string src = SKIDSIM_SOURCE_DIR;
+  const auto r = run_skidsim("run " + src + "/scenarios/driving_course.xml --script " + src +
+                             "/scenarios/driving_course.operator.xml --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+  EXPECT_TRUE(report["result"]["passed"].get<bool>()) << report["result"].dump();
+  EXPECT_EQ(report["result"]["tasks"][0]["detail"], "4 of 4 gates");
+  EXPECT_TRUE(report["result"]["script_phases_timed_out"].empty());
+  EXPECT_FALSE(fs::exists(dir / "terrain_surface.png")) << "no soil, no terrain";
+  int gates = 0;
+  for (const auto& e : report["events"]) gates += e["kind"] == "task_progress";
+  EXPECT_EQ(gates, 4);
+}
+
 TEST(SkidsimRun, SameScriptTwiceGivesTheSameFinalState) {
   std::string hash[2];
   for (int k = 0; k < 2; ++k) {
