@@ -88,7 +88,9 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
       if (std::abs(e) > 0.35) {
         steer(c, 0.0, e);  // pivot towards it first
       } else {
-        steer(c, std::min(p.speed, 0.2 + to.norm()), e);
+        // Slowing to a creep at the point: a loaded machine stopped hard from
+        // speed pitches forward onto its bucket.
+        steer(c, std::min(p.speed, 0.08 + 0.4 * to.norm()), e);
       }
       c.lift = lift_to(s, s.lift_angle_rad > 0.2 ? s.lift_angle_rad : 0.03);
       c.tilt = tilt_to(s, carry_pitch);

@@ -1,6 +1,8 @@
 #include "apps/run_job.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <vector>
@@ -11,6 +13,7 @@
 
 #include "apps/operator_player.h"
 #include "apps/progress.h"
+#include "apps/report_html.h"
 #include "apps/run_directory.h"
 #include "apps/session_tasks.h"
 #include "apps/session_world.h"
@@ -26,6 +29,7 @@ using nlohmann::json;
 
 constexpr int kStepsPerTick = 5;        // controls every 10 ms
 constexpr int kStepsPerState = 10;      // state published at 50 Hz
+constexpr int kStepsPerSample = 100;    // the report's timeline at 5 Hz
 constexpr int kMissedTicksToEnd = 25;   // lockstep: this many ticks in a row without a command ends the session
 
 // FNV-1a over the bytes of what defines the final state: the terrain, the
@@ -108,6 +112,9 @@ int run_session(const RunJob& job) {
   if (replaying && mode != "fast") throw io::InputError("--replay runs in mode fast");
   if (mode != "fast" && mode != "realtime" && mode != "lockstep")
     throw io::InputError("--mode '" + mode + "': expected fast, realtime or lockstep");
+  if (mode == "lockstep" && (player || replaying))
+    throw io::InputError("--mode lockstep waits for an operator over LCM; a script played in-process is already "
+                         "reproducible (--mode fast), or play it as one: skidsim operator SCRIPT");
   if (mode == "fast" && !player && !replaying)
     throw io::InputError("--mode fast needs a script (--script, or <operator source=\"script\">) or --replay");
   if (!(job.max_s >= 0.0 && job.max_s <= 86400.0)) throw io::InputError("--max-s: expected 0 to 86400 s");
@@ -129,6 +136,7 @@ int run_session(const RunJob& job) {
   auto log_file = std::make_unique<lcm::LogFile>(log_path, "w");
   if (!log_file->good()) throw io::InputError("cannot write the LCM log " + log_path);
   lcm::LogFile& log = *log_file;
+  if (bridge) bridge->record_controls_to(&log);
 
   const double limit_s = job.max_s > 0.0 ? job.max_s : ex.time_limit_s;
   Progress progress("run", limit_s);
@@ -139,6 +147,13 @@ int run_session(const RunJob& job) {
   std::int64_t watchdog_trips_seen = 0;
   std::string end_reason = "time_limit";
   const auto wall_start = std::chrono::steady_clock::now();
+  // The report's plots over time (columnar, reserved: no reallocation in the loop).
+  const char* const kSeries[] = {"t_s", "chassis_x_m", "chassis_y_m", "speed_m_s", "bucket_payload_kg",
+                                 "material_moved_kg", "task_progress", "score", "engine_speed_rpm",
+                                 "tipping_margin", "max_wheel_slip"};
+  constexpr std::size_t kSeriesCount = sizeof(kSeries) / sizeof(kSeries[0]);
+  std::vector<std::vector<double>> timeline(kSeriesCount);
+  for (auto& series : timeline) series.reserve(static_cast<std::size_t>(limit_s / (kStepsPerSample * engine::kStepSeconds)) + 2);
   bool script_done_at_set = false;
   double script_done_s = 0.0;
   while (world->time_s() < limit_s) {
@@ -217,6 +232,24 @@ int run_session(const RunJob& job) {
         log_message(log, channels.events, m, t);
         if (bridge) bridge->publish_event(m);
       }
+      if (step % kStepsPerSample == 0) {
+        double progress_now = 0.0, worst_slip = 0.0;
+        for (const TaskProgress& p : tasks.tasks())
+          if (p.id == state.active_task || (state.active_task.empty() && &p == &tasks.tasks().back())) progress_now = p.progress;
+        for (double slip : state.wheel_slip) worst_slip = std::max(worst_slip, std::abs(slip));
+        const double sample[kSeriesCount] = {t,
+                                             state.chassis_position_m[0],
+                                             state.chassis_position_m[1],
+                                             std::hypot(state.chassis_velocity_m_s[0], state.chassis_velocity_m_s[1]),
+                                             state.bucket_payload_kg,
+                                             tasks.metrics().material_moved_kg,
+                                             progress_now,
+                                             tasks.score(),
+                                             state.engine_speed_rpm,
+                                             state.tipping_margin,
+                                             worst_slip};
+        for (std::size_t k = 0; k < kSeriesCount; ++k) timeline[k].push_back(sample[k]);
+      }
       if (step % kStepsPerState == 0) {
         log_message(log, channels.state, state, t);
         if (bridge && mode != "lockstep") bridge->publish_state(state);
@@ -261,6 +294,8 @@ int run_session(const RunJob& job) {
   json events = json::array();
   for (const SessionEvent& e : tasks.all_events())
     events.push_back({{"time_s", e.time_s}, {"kind", e.kind}, {"severity", e.severity}, {"text", e.text}});
+  json timeline_json = json::object();
+  for (std::size_t k = 0; k < kSeriesCount; ++k) timeline_json[kSeries[k]] = timeline[k];
   char hash[32];
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(state_hash(*world)));
   const io::ControlStats& cs = input.stats();
@@ -275,7 +310,9 @@ int run_session(const RunJob& job) {
                   {"script_phases_timed_out", player ? json(player->timed_out()) : json::array()}}},
       {"metrics", metrics},
       {"metrics_not_measured_yet", not_measured},
+      {"passes", tasks.metrics().passes},
       {"events", events},
+      {"timeline", timeline_json},
       {"controls", {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},
                     {"rejected_stale", cs.rejected_stale}, {"malformed", cs.malformed},
                     {"watchdog_trips", cs.watchdog_trips}}},
@@ -284,18 +321,20 @@ int run_session(const RunJob& job) {
       {"lockstep_missed_ticks", missed_ticks},
       {"machine_finite", world->events().finite},
       {"performance", {{"simulated_s", sim_s}, {"wall_time_s", wall_s}, {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0}}},
-      {"files", {{"lcm_log", "session.lcmlog"}, {"terrain", world->terrain() ? "terrain_surface.png" : ""}}},
+      {"files", {{"lcm_log", "session.lcmlog"}, {"report_html", "report.html"}, {"terrain", world->terrain() ? "terrain_surface.png" : ""}}},
   };
+  if (bridge) bridge->record_controls_to(nullptr);
   log_file.reset();  // closed (flushed) before the run directory is committed
   if (world->terrain())
     io::write_heightmap((run_dir.staging() / "terrain_surface").string(), terrain_snapshot(*world->terrain(), "surface"));
   io::write_text_atomically((run_dir.staging() / "report.json").string(), report.dump(2) + "\n");
+  io::write_text_atomically((run_dir.staging() / "report.html").string(), render_report_html(report));
   run_dir.commit();
   std::cout << "session '" << ex.name << "' (" << mode << "): " << (tasks.passed() ? "passed" : "not passed")
             << ", score " << tasks.score() << ", " << sim_s << " s simulated in " << wall_s << " s\n";
   for (const TaskProgress& p : tasks.tasks())
     std::cout << "  task " << p.id << ": " << (p.done ? "done" : "not done") << " (" << p.detail << ")\n";
-  std::cout << "wrote " << job.out_dir << "/report.json, session.lcmlog" << (world->terrain() ? " and the final terrain" : "")
+  std::cout << "wrote " << job.out_dir << "/report.json, report.html, session.lcmlog" << (world->terrain() ? " and the final terrain" : "")
             << "\n";
   return 0;
 }

@@ -13,12 +13,16 @@ const io::Zone* find_zone(const io::Exercise& ex, const std::string& id) {
   return nullptr;
 }
 
+constexpr double kTippingHoldS = 0.25;
+constexpr double kTippingRearmS = 0.5;
+
 }  // namespace
 
 bool Metrics::measured(const std::string& name) {
   static const char* const kMeasured[] = {"completion_time_s", "material_moved_kg", "tasks_done",
                                           "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s",
-                                          "left_work_area_s"};
+                                          "left_work_area_s", "material_rate_kg_h", "spillage_kg",
+                                          "bucket_fill_per_pass", "engine_energy_MJ"};
   for (const char* m : kMeasured)
     if (name == m) return true;
   return false;
@@ -32,6 +36,10 @@ double Metrics::value(const std::string& name) const {
   if (name == "idle_time_s") return idle_time_s;
   if (name == "wheel_slip_time_s") return wheel_slip_time_s;
   if (name == "left_work_area_s") return left_work_area_s;
+  if (name == "material_rate_kg_h") return material_rate_kg_h;
+  if (name == "spillage_kg") return spillage_kg;
+  if (name == "bucket_fill_per_pass") return bucket_fill_per_pass;
+  if (name == "engine_energy_MJ") return engine_energy_MJ;
   return 0.0;
 }
 
@@ -48,6 +56,7 @@ SessionTasks::SessionTasks(const io::Exercise& exercise, const engine::World& wo
     next_gate_.push_back(0);
   }
   fired_.assign(exercise.events.size(), false);
+  last_bucket_kg_ = world.bucket_material() ? world.bucket_material()->material_mass_kg() : 0.0;
   const Eigen::Vector2d start = world.loader().link_pose(0).translation().head<2>();
   for (const io::Zone& z : exercise.zones) was_in_zone_.push_back(z.region.contains(start));
 }
@@ -74,6 +83,33 @@ double SessionTasks::zone_material_kg(const engine::World& w, const std::string&
   for (int j = c.min().y(); j < c.max().y(); ++j)
     for (int i = c.min().x(); i < c.max().x(); ++i) kg += g->material_mass_kg(i, j);
   return kg;
+}
+
+double SessionTasks::ground_height_m(const engine::World& w, const Eigen::Vector2d& xy) const {
+  const terrain::GranularGrid* g = w.terrain();
+  if (!g) return 0.0;
+  const Eigen::Vector2d ij = (xy - g->spec().origin_m) / g->cell_size_m();
+  const int i = static_cast<int>(std::lround(ij.x())), j = static_cast<int>(std::lround(ij.y()));
+  return g->contains(i, j) ? g->surface_m(i, j) : 0.0;
+}
+
+bool SessionTasks::over_target(const Eigen::Vector2d& xy) const {
+  for (const io::Task& t : exercise_.tasks) {
+    if (t.type == io::Task::Type::kMoveMaterial || t.type == io::Task::Type::kBackfill) {
+      const io::Zone* z = find_zone(exercise_, t.to);
+      if (z && z->region.contains(xy)) return true;
+    }
+    if (t.type == io::Task::Type::kLoadTruck)
+      for (const io::TruckBed& b : exercise_.trucks) {
+        if (b.id != t.to) continue;
+        // The bed's floor in its own frame: x along its length, y across.
+        const double yaw = b.yaw_deg * 3.14159265358979323846 / 180.0;
+        const Eigen::Vector2d d = xy - b.back_corner_m;
+        const double u = std::cos(yaw) * d.x() + std::sin(yaw) * d.y(), v = -std::sin(yaw) * d.x() + std::cos(yaw) * d.y();
+        if (u >= 0.0 && u <= b.length_m && v >= 0.0 && v <= b.width_m) return true;
+      }
+  }
+  return false;
 }
 
 std::string SessionTasks::active_task() const {
@@ -144,8 +180,10 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
               within += std::abs(g->surface_m(i, j) - task.height_m) <= task.tolerance_m;
             }
         }
-        p.progress = cells > 0 ? static_cast<double>(within) / static_cast<double>(cells) : 0.0;
-        d << within << " of " << cells << " cells within " << task.tolerance_m << " m of " << task.height_m << " m";
+        const double share = cells > 0 ? static_cast<double>(within) / static_cast<double>(cells) : 0.0;
+        p.progress = std::min(1.0, share / task.coverage);
+        d << within << " of " << cells << " cells within " << task.tolerance_m << " m of " << task.height_m
+          << " m (" << static_cast<long>(task.coverage * 100.0 + 0.5) << " % asked)";
         break;
       }
     }
@@ -168,18 +206,56 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
     if (l.description().wheels[k].hub_m.x() < 0.0) rear += l.wheels()[k].normal_load_N;
     worst_slip = std::max(worst_slip, std::abs(l.wheels()[k].slip_ratio));
   }
-  // A scare counts once: it re-arms only after the rear axle has carried
-  // a tenth of the load again for 0.2 s.
-  const bool tipping = total > 0.0 && rear < 0.05 * total;
+  // A scare is the rear axle all but unloaded for kTippingHoldS: long
+  // enough for the machine to pitch forward, not the bounce of a pivot turn
+  // on rough ground. It counts once and re-arms only after the rear axle
+  // has carried a tenth of the load again for kTippingRearmS.
+  const bool unloaded = total > 0.0 && rear < 0.05 * total;
+  rear_unloaded_s_ = unloaded ? rear_unloaded_s_ + dt_s : 0.0;
   rear_loaded_s_ = (total > 0.0 && rear > 0.1 * total) ? rear_loaded_s_ + dt_s : 0.0;
-  if (tipping && !tipping_) {
+  if (rear_unloaded_s_ >= kTippingHoldS && !tipping_) {
     metrics_.tipping_margin_violations += 1.0;
     emit(t, "warning", "the rear wheels lifted: the machine is tipping forward", 2);
     tipping_ = true;
   }
-  if (tipping_ && rear_loaded_s_ >= 0.2) tipping_ = false;
+  if (tipping_ && rear_loaded_s_ >= kTippingRearmS) tipping_ = false;
   if (l.chassis_velocity().head<2>().norm() < 0.05) metrics_.idle_time_s += dt_s;
   if (worst_slip > 0.3) metrics_.wheel_slip_time_s += dt_s;
+  metrics_.engine_energy_MJ += l.engine_output_power_W() * dt_s * 1e-6;
+  const double work_s = metrics_.completion_time_s > 0.0 ? metrics_.completion_time_s : t;
+  metrics_.material_rate_kg_h = work_s > 0.0 ? moved * 3600.0 / work_s : 0.0;
+  // Passes and spillage from the bucket's load, looked at every 0.2 s (the
+  // load swings from step to step while the edge cuts). A pass ends when a
+  // load of at least 50 kg has stayed under a third of its peak for 0.4 s;
+  // its fill is that peak.
+  // Load lost while the bucket is carried (0.3 m or more over the ground)
+  // and not over a target is spilt.
+  bucket_sample_s_ += dt_s;
+  if (bucket_sample_s_ >= 0.2 - 1e-9) {
+    bucket_sample_s_ = 0.0;
+    const double bucket_kg = w.bucket_material() ? w.bucket_material()->material_mass_kg() : 0.0;
+    // Material leaves over the lip: the middle of the container's front edge.
+    Eigen::Vector3d lip_m = l.link_pose(static_cast<int>(l.description().links.size()) - 1).translation();
+    if (const terrain::BodyAutomaton* b = w.bucket_material())
+      lip_m = b->pose() * Eigen::Vector3d(b->shape().length_m, 0.5 * b->shape().width_m, 0.0);
+    const double lost = std::max(0.0, last_bucket_kg_ - bucket_kg);
+    last_bucket_kg_ = bucket_kg;
+    if (lost > 0.0 && lip_m.z() - ground_height_m(w, lip_m.head<2>()) > 0.3 && !over_target(lip_m.head<2>()))
+      metrics_.spillage_kg += lost;
+    // The peak follows the load only while it grows (filling), so that what
+    // is still coming out after a pass was counted cannot make another.
+    if (lost == 0.0) pass_peak_kg_ = std::max(pass_peak_kg_, bucket_kg);
+    emptied_s_ = (pass_peak_kg_ >= 50.0 && bucket_kg < pass_peak_kg_ / 3.0) ? emptied_s_ + 0.2 : 0.0;
+    if (emptied_s_ >= 0.4 - 1e-9) {
+      ++metrics_.passes;
+      passes_kg_ += pass_peak_kg_;
+      metrics_.bucket_fill_per_pass = passes_kg_ / metrics_.passes;
+      emit(t, "pass", "pass " + std::to_string(metrics_.passes) + ": " + std::to_string(std::lround(pass_peak_kg_)) +
+                          " kg in the bucket");
+      pass_peak_kg_ = 0.0;
+      emptied_s_ = 0.0;
+    }
+  }
   const Eigen::AlignedBox2d site(Eigen::Vector2d::Zero(), exercise_.site_size_m);
   if (!site.contains(xy)) metrics_.left_work_area_s += dt_s;
   // The exercise's events.

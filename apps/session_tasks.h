@@ -31,10 +31,15 @@ struct Metrics {
   double completion_time_s = 0.0;
   double material_moved_kg = 0.0;
   double tasks_done = 0.0;
-  double tipping_margin_violations = 0.0;  // times the rear wheels lost almost all load
+  double tipping_margin_violations = 0.0;  // times the rear axle lost almost all its load for 0.25 s
   double idle_time_s = 0.0;
   double wheel_slip_time_s = 0.0;
   double left_work_area_s = 0.0;
+  double material_rate_kg_h = 0.0;     // material moved over the time taken
+  double spillage_kg = 0.0;            // lost from the raised bucket away from the targets
+  double bucket_fill_per_pass = 0.0;   // kg: the mean load of the passes (a pass ends when the bucket is emptied)
+  double engine_energy_MJ = 0.0;       // the engine's output, integrated per control tick
+  int passes = 0;
   double value(const std::string& name) const;  // 0 for a metric not measured yet
   static bool measured(const std::string& name);
 };
@@ -64,6 +69,8 @@ class SessionTasks {
   double zone_material_kg(const engine::World& w, const std::string& zone) const;
   // The grid cells a zone covers: [i0, i1) x [j0, j1) (empty off the grid).
   Eigen::AlignedBox2i zone_cells(const engine::World& w, const io::Zone& zone) const;
+  double ground_height_m(const engine::World& w, const Eigen::Vector2d& xy) const;  // soil surface, else 0
+  bool over_target(const Eigen::Vector2d& xy) const;  // over a move/backfill zone or a loaded truck's bed
   void emit(double t, const std::string& kind, const std::string& text, int severity = 0);
 
   const io::Exercise& exercise_;
@@ -72,10 +79,14 @@ class SessionTasks {
   std::vector<std::size_t> next_gate_;  // drive_course
   std::vector<bool> fired_;             // per exercise event
   std::vector<bool> was_in_zone_;       // per zone: the machine was in it at the last tick
+  double rear_unloaded_s_ = 0.0;        // how long the rear axle has been all but unloaded
   double rear_loaded_s_ = 1e9;          // how long the rear axle has carried load again (tipping re-arm)
   std::vector<SessionEvent> pending_, log_;
   Metrics metrics_;
   bool tipping_ = false;
+  double last_bucket_kg_ = 0.0, left_bucket_kg_ = 0.0;  // spillage: all that has left the bucket
+  double pass_peak_kg_ = 0.0, passes_kg_ = 0.0;
+  double bucket_sample_s_ = 0.0, emptied_s_ = 0.0;
 };
 
 }  // namespace skidsim::apps

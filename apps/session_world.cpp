@@ -9,6 +9,7 @@ namespace skidsim::apps {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr int kMaxSettlingSteps = 30000;  // 60 s of avalanching at 2 ms
 
 // Distance from p to the segment a-b.
 double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -34,6 +35,12 @@ std::unique_ptr<terrain::GranularGrid> soil_grid(const io::SoilSite& s, const te
         if (distance_to_segment(p, t.from_m, t.to_m) <= 0.5 * t.width_m) h = std::min(h, s.depth_m - t.depth_m);
       for (const io::SoilBank& b : s.banks)
         if (b.region.contains(p)) h += b.height_m;
+      for (const io::SoilSlope& r : s.slopes)
+        if (r.region.contains(p)) {
+          const int a = r.rising_axis;
+          const double f = (p[a] - r.region.min()[a]) / r.region.sizes()[a];
+          h += r.height_m * (r.rising_up ? f : 1.0 - f);
+        }
       for (const io::SoilPile& c : s.piles) h += c.height_m * std::max(0.0, 1.0 - (p - c.centre_m).norm() / c.radius_m);
       g->set_material_m(i, j, std::max(0.0, h));
     }
@@ -62,6 +69,11 @@ std::unique_ptr<engine::World> build_session_world(const io::Exercise& ex, const
   if (!ex.soils.empty()) {
     const io::SoilSite& s = ex.soils.front();
     grid = soil_grid(s, soils.at(s.soil).flow);
+    // The site as the trainee finds it: what the exercise describes, settled.
+    // Loose soil cannot stand in a trench's or bank's vertical walls; letting
+    // it slump before the start keeps that slumping out of the tasks'
+    // baselines (a trench would otherwise "backfill" itself).
+    for (int k = 0; k < kMaxSettlingSteps && !grid->at_rest(); ++k) grid->step();
     if (s.region.contains(ex.machine.position_m)) {
       const Eigen::Vector2d ij = (ex.machine.position_m - grid->spec().origin_m) / s.cell_m;
       const int i = std::clamp(static_cast<int>(std::lround(ij.x())), 0, grid->nx() - 1);

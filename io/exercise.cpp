@@ -100,8 +100,20 @@ struct Reader {
         b.reject_unknown();
         if (!s.region.contains(k.region)) b.fail("the bank is outside its soil region");
         s.banks.push_back(k);
+      } else if (name == "slope") {
+        SoilSlope k;
+        k.region = read_region(b, "region");
+        k.height_m = b.number_in("height_m", 0.01, 20.0);
+        const std::string rising = b.text("rising", true);
+        if (rising != "+x" && rising != "-x" && rising != "+y" && rising != "-y")
+          b.fail("attribute 'rising' = \"" + rising + "\": expected +x, -x, +y or -y");
+        k.rising_axis = rising[1] == 'x' ? 0 : 1;
+        k.rising_up = rising[0] == '+';
+        b.reject_unknown();
+        if (!s.region.contains(k.region)) b.fail("the slope is outside its soil region");
+        s.slopes.push_back(k);
       } else {
-        b.fail("unknown element (expected <pile>, <trench> or <bank>)");
+        b.fail("unknown element (expected <pile>, <trench>, <bank> or <slope>)");
       }
     }
     ex.soils.push_back(s);
@@ -239,6 +251,7 @@ struct Reader {
       t.to = zone("zone");
       t.height_m = a.number_in("height_m", -100.0, 100.0);
       t.tolerance_m = a.number_in("tolerance_m", 0.001, 1.0);
+      t.coverage = a.has("coverage") ? a.number_in("coverage", 0.01, 1.0) : 0.9;
     } else if (type == "climb") {
       t.type = Task::Type::kClimb;
       t.to = zone("to");

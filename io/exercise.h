@@ -27,6 +27,12 @@ struct SoilBank {  // a rectangular bank standing on the layer
   Region region;
   double height_m = 0.5;
 };
+struct SoilSlope {  // a ramp of soil on the layer: 0 at one side of its region, height_m at the other
+  Region region;
+  double height_m = 1.0;
+  int rising_axis = 0;    // 0: along x, 1: along y
+  bool rising_up = true;  // true: rises towards +axis
+};
 struct SoilSite {
   std::string id;
   Region region;
@@ -36,6 +42,7 @@ struct SoilSite {
   std::vector<SoilPile> piles;
   std::vector<SoilTrench> trenches;
   std::vector<SoilBank> banks;
+  std::vector<SoilSlope> slopes;
 };
 struct Zone {
   std::string id;
@@ -78,7 +85,8 @@ struct Task {
   std::string from, to;
   double mass_kg = 0.0;
   // grade: a zone to level to a height within a tolerance.
-  double height_m = 0.0, tolerance_m = 0.05;
+  // Done when `coverage` of the zone's cells are within tolerance.
+  double height_m = 0.0, tolerance_m = 0.05, coverage = 0.9;
   // climb: reach a zone (on a slope).
 };
 struct Event {

@@ -29,7 +29,16 @@ void LcmBridge::subscribe() {
   subscription_ = lcm_->subscribe(channels_.control, &LcmBridge::on_control, this);
 }
 
-void LcmBridge::on_control(const lcm::ReceiveBuffer* buffer, const std::string&) {
+void LcmBridge::on_control(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+  if (recorder_) {
+    lcm::LogEvent e;
+    e.eventnum = 0;
+    e.timestamp = static_cast<std::int64_t>(now_s_ * 1e6);
+    e.channel = channel;
+    e.datalen = static_cast<std::int32_t>(buffer->data_size);
+    e.data = buffer->data;
+    recorder_->writeEvent(&e);
+  }
   skidsim_lcm::control_t command;
   if (command.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0) {
     input_->count_malformed();
@@ -41,7 +50,7 @@ void LcmBridge::on_control(const lcm::ReceiveBuffer* buffer, const std::string&)
 int LcmBridge::poll(double sim_time_s) {
   now_s_ = sim_time_s;
   int handled = 0;
-  while (lcm_->handleTimeout(0) > 0) ++handled;
+  while (handled < kMaxPerPoll && lcm_->handleTimeout(0) > 0) ++handled;
   return handled;
 }
 

@@ -36,11 +36,18 @@ class LcmBridge {
   LcmBridge(const LcmBridge&) = delete;
   LcmBridge& operator=(const LcmBridge&) = delete;
 
-  // Handles every message waiting, without blocking; commands are stamped
-  // with `sim_time_s`. Returns how many were handled.
+  // Handles the messages waiting, without blocking, at most kMaxPerPoll (a
+  // flooding sender cannot stall the session); commands are stamped with
+  // `sim_time_s`. Returns how many were handled.
+  static constexpr int kMaxPerPoll = 256;
   int poll(double sim_time_s);
   // Waits up to `timeout_ms` for one message (lockstep). True if one came.
   bool wait(int timeout_ms, double sim_time_s);
+
+  // Every message received on the control channel, as received (even one
+  // that does not decode), is also written to `log` stamped with the
+  // simulated time: the session's log holds every channel. nullptr: none.
+  void record_controls_to(lcm::LogFile* log) { recorder_ = log; }
 
   void publish_state(const skidsim_lcm::state_t& state);
   void publish_event(const skidsim_lcm::event_t& event);
@@ -56,6 +63,7 @@ class LcmBridge {
   ControlInput* input_ = nullptr;
   lcm::Subscription* subscription_ = nullptr;
   double now_s_ = 0.0;
+  lcm::LogFile* recorder_ = nullptr;
 };
 
 }  // namespace skidsim::io

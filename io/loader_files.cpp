@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include "io/soil_table.h"
 #include "io/xml_reader.h"
@@ -25,14 +26,16 @@ using vehicle::LoaderDescription;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// urdfdom reports through console_bridge; keep its last error for our message
-// instead of letting it print.
+// urdfdom reports through console_bridge; keep its errors for our message
+// instead of letting it print. The first is the specific one ("Malformed
+// axis element for joint [bucket_joint]..."), the last often a summary
+// naming nothing ("joint xml is not initialized correctly").
 class CapturedLog : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) last_error = text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors.push_back(text);
   }
-  std::string last_error;
+  std::vector<std::string> errors;
 };
 
 // Where each <link>/<joint> of the URDF starts, for messages (urdfdom keeps no lines).
@@ -167,19 +170,26 @@ void read_urdf(LoaderDescription& d) {
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text.str());
   console_bridge::restorePreviousOutputHandler();
   if (!model) {
-    // urdfdom names the link or joint, not the line: find the line of the
-    // first element its message names.
+    // urdfdom names the link or joint ("[name]" or "'name'"), not the line:
+    // find the line of the first element its messages name.
     int line = 0;
-    size_t best = std::string::npos;
-    for (const auto* index : {&lines.joint, &lines.link})
-      for (const auto& [name, l] : *index) {
-        const size_t at = log.last_error.find("[" + name + "]");
-        if (at != std::string::npos && (best == std::string::npos || at < best)) {
-          best = at;
-          line = l;
-        }
-      }
-    fail_line(path, line, "not a valid URDF: " + (log.last_error.empty() ? std::string("parse failed") : log.last_error));
+    std::string what;
+    for (const std::string& error : log.errors) {
+      what += (what.empty() ? "" : "; ") + error;
+      size_t best = std::string::npos;
+      int error_line = 0;
+      for (const auto* index : {&lines.joint, &lines.link})
+        for (const auto& [name, l] : *index)
+          for (const std::string& quoted : {"[" + name + "]", "'" + name + "'"}) {
+            const size_t at = error.find(quoted);
+            if (at != std::string::npos && (best == std::string::npos || at < best)) {
+              best = at;
+              error_line = l;
+            }
+          }
+      if (line == 0) line = error_line;
+    }
+    fail_line(path, line, "not a valid URDF: " + (what.empty() ? std::string("parse failed") : what));
   }
 
   const urdf::LinkConstSharedPtr root = model->getRoot();

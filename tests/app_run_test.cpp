@@ -6,12 +6,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <chrono>
 #include <cstdlib>
 #include <string>
 #include <thread>
 
+#include "skidsim_lcm/control_t.hpp"
 #include "skidsim_lcm/event_t.hpp"
 #include "skidsim_lcm/state_t.hpp"
 #include "tests/app_support.h"
@@ -83,24 +85,62 @@ TEST(SkidsimRun, ReplayingASessionsLogReproducesItsFinalState) {
   EXPECT_EQ(run_skidsim("run " + kScenario + " --replay " + rep.string() + ".bad --out " + rep.string() + "2").exit_code, 2);
 }
 
-// The driving course: firm ground only (no soil automaton, no terrain
-// written), four gates in order, done and passed with its script.
-TEST(SkidsimRun, DrivingCourseIsDoneWithItsScriptOnFirmGround) {
-  const fs::path dir = fs::temp_directory_path() / "skidsim_run_course";
+// Every shipped scenario runs to completion with its operator script and
+// passes: its tasks done, no script phase timed out, a score at or over its
+// pass score, the machine finite, and the report's page written.
+struct Scenario {
+  const char* name;
+  bool has_soil;
+};
+class ShippedScenario : public ::testing::TestWithParam<Scenario> {};
+
+TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
+  const Scenario sc = GetParam();
+  const fs::path dir = fs::temp_directory_path() / (std::string("skidsim_scenario_") + sc.name);
   fs::remove_all(dir);
-  const std::string src = SKIDSIM_SOURCE_DIR;
-  const auto r = run_skidsim("run " + src + "/scenarios/driving_course.xml --script " + src +
-                             "/scenarios/driving_course.operator.xml --out " + dir.string());
+  const std::string base = std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/" + sc.name;
+  const auto r = run_skidsim("run " + base + ".xml --script " + base + ".operator.xml --out " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+  EXPECT_EQ(report["end_reason"], "tasks_done");
+  EXPECT_TRUE(report["result"]["all_tasks_done"].get<bool>()) << report["result"].dump();
   EXPECT_TRUE(report["result"]["passed"].get<bool>()) << report["result"].dump();
-  EXPECT_EQ(report["result"]["tasks"][0]["detail"], "4 of 4 gates");
-  EXPECT_TRUE(report["result"]["script_phases_timed_out"].empty());
-  EXPECT_FALSE(fs::exists(dir / "terrain_surface.png")) << "no soil, no terrain";
-  int gates = 0;
-  for (const auto& e : report["events"]) gates += e["kind"] == "task_progress";
-  EXPECT_EQ(gates, 4);
+  EXPECT_GE(report["result"]["score"].get<double>(), report["result"]["pass_score"].get<double>());
+  EXPECT_TRUE(report["result"]["script_phases_timed_out"].empty()) << report["result"].dump();
+  EXPECT_TRUE(report["machine_finite"].get<bool>());
+  EXPECT_EQ(fs::exists(dir / "terrain_surface.png"), sc.has_soil) << "a terrain only where there is soil";
+  // The timeline: equal columns at 5 Hz over the session.
+  const auto& tl = report["timeline"];
+  const std::size_t n = tl["t_s"].size();
+  EXPECT_NEAR(static_cast<double>(n), report["performance"]["simulated_s"].get<double>() * 5.0, 2.0);
+  for (const auto& [key, series] : tl.items()) EXPECT_EQ(series.size(), n) << key;
+  std::ifstream page(dir / "report.html");
+  const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("PASSED"), std::string::npos);
+  EXPECT_NE(html.find("<polyline"), std::string::npos);
+  // The measured handling metrics: the engine worked; where material was
+  // carried, each pass was counted with its fill and little of it was spilt.
+  const auto& m = report["metrics"];
+  EXPECT_GT(m["engine_energy_MJ"].get<double>(), 0.0);
+  if (m["material_moved_kg"].get<double>() > 0.0) {
+    EXPECT_GE(report["passes"].get<int>(), 1);
+    EXPECT_GT(m["bucket_fill_per_pass"].get<double>(), 200.0);
+    EXPECT_LT(m["spillage_kg"].get<double>(), 0.25 * m["material_moved_kg"].get<double>());
+    EXPECT_GT(m["material_rate_kg_h"].get<double>(), 0.0);
+  }
+  if (std::string(sc.name) == "driving_course") {  // four gates in order, each an event
+    EXPECT_EQ(report["result"]["tasks"][0]["detail"], "4 of 4 gates");
+    int gates = 0;
+    for (const auto& e : report["events"]) gates += e["kind"] == "task_progress";
+    EXPECT_EQ(gates, 4);
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, ShippedScenario,
+                         ::testing::Values(Scenario{"driving_course", false}, Scenario{"pile_to_zone", true},
+                                           Scenario{"truck_loading", true}, Scenario{"grading", true},
+                                           Scenario{"trench_backfill", true}, Scenario{"soft_slope_climb", true}),
+                         [](const ::testing::TestParamInfo<Scenario>& p) { return std::string(p.param.name); });
 
 TEST(SkidsimRun, SameScriptTwiceGivesTheSameFinalState) {
   std::string hash[2];
@@ -131,6 +171,20 @@ TEST(SkidsimRun, LockstepOverLcmReproducesTheScriptedRunBitForBit) {
     EXPECT_EQ(report["controls"]["watchdog_trips"], 0) << "every tick's command must arrive";
     EXPECT_EQ(report["controls"]["accepted"], 1000);
     hash[k] = report["final_state_hash"];
+    // The log holds every channel: the operator's commands as received too.
+    lcm::LogFile log((dir / "session.lcmlog").string(), "r");
+    ASSERT_TRUE(log.good());
+    int received = 0, applied = 0;
+    while (const lcm::LogEvent* e = log.readNextEvent()) {
+      skidsim_lcm::control_t m;
+      if (e->channel == "SKIDSIM_CONTROL") {
+        ASSERT_GE(m.decode(e->data, 0, e->datalen), 0);
+        ++received;
+      }
+      applied += e->channel == "SKIDSIM_CONTROL_APPLIED";
+    }
+    EXPECT_GE(received, 1000);
+    EXPECT_EQ(applied, 1000);
     std::this_thread::sleep_for(std::chrono::milliseconds(3500));  // the operator stops (no more state)
   }
   const fs::path dir = fs::temp_directory_path() / "skidsim_run_lockstep_fast";
@@ -207,7 +261,8 @@ TEST(SkidsimRun, BadOptionsAreRefusedNamingWhatIsWrong) {
        {std::pair<std::string, std::string>{"--script " + kScript + " --mode warp", "--mode 'warp'"},
         {"--mode fast", "--mode fast needs a script"},
         {"--script /nonexistent.xml", "/nonexistent.xml"},
-        {"--script " + kScript + " --max-s -1", "--max-s"}}) {
+        {"--script " + kScript + " --max-s -1", "--max-s"},
+        {"--script " + kScript + " --mode lockstep", "--mode lockstep waits for an operator over LCM"}}) {
     const auto r = run_skidsim("run " + kScenario + " " + args + " --out " + dir.string());
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
     EXPECT_NE(r.output.find(expected), std::string::npos) << args << ": " << r.output;

@@ -107,6 +107,9 @@ class Loader {
   Eigen::Vector3d wheel_hub(int wheel) const;
   double side_wheel_speed(int side) const { return side_speed_[side]; }
   double engine_speed_rpm() const;
+  // What the engine gives this step: the implement pump's shaft power and
+  // the drive pumps' (W).
+  double engine_output_power_W() const { return implement_power_W_ / d_.implement_pump.efficiency + drive_power_W_; }
   const std::vector<WheelState>& wheels() const { return wheels_; }
   const std::vector<CylinderState>& cylinders() const { return cylinder_state_; }
   btMultiBody& multibody() { return *body_; }

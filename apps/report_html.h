@@ -1,0 +1,23 @@
+// A session's report (the report.json `skidsim run` writes) as one HTML page
+// a trainer can open anywhere: self-contained, no scripts, no external files.
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <string>
+
+namespace skidsim::apps {
+
+// The session's report as one self-contained HTML page (no scripts, no
+// external files): the exercise's name, a pass/fail banner with the score
+// against the pass score, the end reason, mode and operator; tables of the
+// tasks, metrics (and those not measured yet), events, control-input counts
+// and performance; the final state hash; and one inline-SVG line plot per
+// series of report["timeline"] (columnar: "t_s" and equal-length numeric
+// arrays, at most 600 points drawn per plot, events of severity >= 1 as
+// vertical lines). All text from the report is HTML-escaped. Never throws on
+// missing or mistyped keys: what is absent is left out, a series that is not
+// all finite numbers or not as long as "t_s" is skipped.
+std::string render_report_html(const nlohmann::json& report);
+
+}  // namespace skidsim::apps

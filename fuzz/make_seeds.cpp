@@ -1,0 +1,70 @@
+// Writes the binary seeds of the LCM harnesses (scripts/fuzz.sh): encoded
+// control_t messages into argv[1], a small session log (controls on
+// SKIDSIM_CONTROL_APPLIED, a state message between) into argv[2].
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "skidsim_lcm/control_t.hpp"
+
+namespace {
+
+skidsim_lcm::control_t command(int k) {
+  skidsim_lcm::control_t c{};
+  c.sender_id = 42;
+  c.seq = k + 1;
+  c.sender_time_us = 10000 * k;
+  c.sim_step = 5 * k;
+  c.drive_left = 0.5 - 0.1 * k;
+  c.drive_right = -0.25 * k;
+  c.lift = 0.1;
+  c.tilt = -0.2;
+  c.throttle = 1.0;
+  c.parking_brake = k % 2 == 0;
+  return c;
+}
+
+std::vector<unsigned char> encoded(const skidsim_lcm::control_t& c) {
+  std::vector<unsigned char> b(static_cast<std::size_t>(c.getEncodedSize()));
+  c.encode(b.data(), 0, static_cast<int>(b.size()));
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: %s CONTROL_SEED_DIR LOG_SEED_DIR\n", argv[0]);
+    return 2;
+  }
+  namespace fs = std::filesystem;
+  fs::create_directories(argv[1]);
+  fs::create_directories(argv[2]);
+  std::vector<unsigned char> stream;
+  for (int k = 0; k < 3; ++k) {
+    const std::vector<unsigned char> b = encoded(command(k));
+    std::ofstream(fs::path(argv[1]) / ("control_" + std::to_string(k)), std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+    stream.insert(stream.end(), b.begin(), b.end());
+  }
+  std::ofstream(fs::path(argv[1]) / "control_stream", std::ios::binary)
+      .write(reinterpret_cast<const char*>(stream.data()), static_cast<std::streamsize>(stream.size()));
+
+  lcm::LogFile log((fs::path(argv[2]) / "session.lcmlog").string(), "w");
+  if (!log.good()) return 1;
+  for (int k = 0; k < 5; ++k) {
+    std::vector<unsigned char> b = k == 2 ? std::vector<unsigned char>(24, 7) : encoded(command(k));
+    lcm::LogEvent e;
+    e.eventnum = k;
+    e.timestamp = 10000 * k;
+    e.channel = k == 2 ? "SKIDSIM_STATE" : "SKIDSIM_CONTROL_APPLIED";
+    e.datalen = static_cast<int>(b.size());
+    e.data = b.data();
+    if (log.writeEvent(&e) != 0) return 1;
+  }
+  return 0;
+}
