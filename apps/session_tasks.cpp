@@ -22,7 +22,7 @@ bool Metrics::measured(const std::string& name) {
   static const char* const kMeasured[] = {"completion_time_s", "material_moved_kg", "tasks_done",
                                           "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s",
                                           "left_work_area_s", "material_rate_kg_h", "spillage_kg",
-                                          "bucket_fill_per_pass", "engine_energy_MJ"};
+                                          "bucket_fill_per_pass", "engine_energy_MJ", "collisions"};
   for (const char* m : kMeasured)
     if (name == m) return true;
   return false;
@@ -40,6 +40,7 @@ double Metrics::value(const std::string& name) const {
   if (name == "spillage_kg") return spillage_kg;
   if (name == "bucket_fill_per_pass") return bucket_fill_per_pass;
   if (name == "engine_energy_MJ") return engine_energy_MJ;
+  if (name == "collisions") return collisions;
   return 0.0;
 }
 
@@ -221,6 +222,17 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   if (tipping_ && rear_loaded_s_ >= kTippingRearmS) tipping_ = false;
   if (l.chassis_velocity().head<2>().norm() < 0.05) metrics_.idle_time_s += dt_s;
   if (worst_slip > 0.3) metrics_.wheel_slip_time_s += dt_s;
+  // A collision: the machine's body, arm or bucket touching an obstacle or a
+  // truck; one contact that lasts counts once, and a new one only after the
+  // machine has been clear for 0.5 s.
+  const bool touching = w.machine_touches_obstacle();
+  apart_s_ = touching ? 0.0 : apart_s_ + dt_s;
+  if (touching && !touching_) {
+    metrics_.collisions += 1.0;
+    emit(t, "collision", "the machine hit an obstacle", 2);
+  }
+  if (touching) touching_ = true;
+  if (touching_ && apart_s_ >= 0.5) touching_ = false;
   metrics_.engine_energy_MJ += l.engine_output_power_W() * dt_s * 1e-6;
   const double work_s = metrics_.completion_time_s > 0.0 ? metrics_.completion_time_s : t;
   metrics_.material_rate_kg_h = work_s > 0.0 ? moved * 3600.0 / work_s : 0.0;

@@ -35,6 +35,7 @@ struct Metrics {
   double idle_time_s = 0.0;
   double wheel_slip_time_s = 0.0;
   double left_work_area_s = 0.0;
+  double collisions = 0.0;             // times the machine came into contact with an obstacle or truck
   double material_rate_kg_h = 0.0;     // material moved over the time taken
   double spillage_kg = 0.0;            // lost from the raised bucket away from the targets
   double bucket_fill_per_pass = 0.0;   // kg: the mean load of the passes (a pass ends when the bucket is emptied)
@@ -87,6 +88,8 @@ class SessionTasks {
   double last_bucket_kg_ = 0.0, left_bucket_kg_ = 0.0;  // spillage: all that has left the bucket
   double pass_peak_kg_ = 0.0, passes_kg_ = 0.0;
   double bucket_sample_s_ = 0.0, emptied_s_ = 0.0;
+  bool touching_ = false;
+  double apart_s_ = 1e9;  // how long the machine has been clear of obstacles (collision re-arm)
 };
 
 }  // namespace skidsim::apps

@@ -3,6 +3,7 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <btBulletDynamicsCommon.h>
 
@@ -15,6 +16,7 @@
 namespace skidsim::engine {
 namespace {
 btVector3 bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+constexpr int kObstacleTag = 0x0b57;  // btCollisionObject user index of an obstacle
 }  // namespace
 
 World::World(const vehicle::LoaderDescription& loader, const FirmGround& ground, const Eigen::Isometry3d& chassis_pose,
@@ -42,15 +44,17 @@ World::World(const vehicle::LoaderDescription& loader, const FirmGround& ground,
   }
   for (const StaticBox& b : ground.boxes) {
     const Eigen::Quaterniond q(b.pose.linear());
-    add_static(new btBoxShape(bt(b.half_extents_m)),
-               btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(Eigen::Vector3d(b.pose.translation()))));
+    add_static_ground(new btBoxShape(bt(b.half_extents_m)),
+                      btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(Eigen::Vector3d(b.pose.translation()))),
+                      true);
   }
   loader_ = std::make_unique<vehicle::Loader>(loader, *world_, chassis_pose, lift_rad, tilt_rad);
 }
 
-void World::add_static_ground(btCollisionShape* shape, const btTransform& pose) {
+void World::add_static_ground(btCollisionShape* shape, const btTransform& pose, bool obstacle) {
   shapes_.emplace_back(shape);
   auto obj = std::make_unique<btCollisionObject>();
+  obj->setUserIndex(obstacle ? kObstacleTag : 0);
   obj->setCollisionShape(shape);
   obj->setWorldTransform(pose);
   obj->setFriction(ground_friction_);
@@ -244,11 +248,27 @@ int World::add_tray(const TraySpec& tray) {
   for (const Part& p : parts) {
     if (p.half.z() <= 0.0) continue;
     add_static_ground(new btBoxShape(bt(p.half)),
-                      btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(Eigen::Vector3d(tray.pose * p.centre))));
+                      btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(Eigen::Vector3d(tray.pose * p.centre))),
+                      true);
   }
   exchange_->add_body(automaton.get());
   trays_.push_back(std::move(automaton));
   return static_cast<int>(trays_.size()) - 1;
+}
+
+bool World::machine_touches_obstacle() const {
+  btDispatcher* dispatcher = world_->getDispatcher();  // Bullet has no const access to its manifolds
+  for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
+    const btPersistentManifold* manifold = dispatcher->getInternalManifoldPointer()[m];
+    const btCollisionObject* a = manifold->getBody0();
+    const btCollisionObject* b = manifold->getBody1();
+    const bool obstacle = a->getUserIndex() == kObstacleTag || b->getUserIndex() == kObstacleTag;
+    const bool machine = btMultiBodyLinkCollider::upcast(a) != nullptr || btMultiBodyLinkCollider::upcast(b) != nullptr;
+    if (!obstacle || !machine) continue;
+    for (int k = 0; k < manifold->getNumContacts(); ++k)
+      if (manifold->getContactPoint(k).getDistance() <= 0.0) return true;
+  }
+  return false;
 }
 
 double World::bucket_fill_fraction() const {

@@ -89,6 +89,10 @@ class World {
   void enable_material(const terrain::SoilFlowParameters& soil, double cell_size_m);
   int add_tray(const TraySpec& tray);
   terrain::BodyAutomaton* bucket_material() { return bucket_.automaton.get(); }
+  // Whether a part of the machine (chassis, arm, bucket) is in contact with
+  // an obstacle (a box, a truck bed) after the last step: Bullet's contact
+  // manifolds, read between steps.
+  bool machine_touches_obstacle() const;
   const terrain::BodyAutomaton* bucket_material() const { return bucket_.automaton.get(); }
   terrain::BodyAutomaton& tray(int k) { return *trays_.at(static_cast<size_t>(k)); }
   const terrain::BodyAutomaton& tray(int k) const { return *trays_.at(static_cast<size_t>(k)); }
@@ -113,7 +117,9 @@ class World {
 
  private:
   void watch_stability();
-  void add_static_ground(btCollisionShape* shape, const btTransform& pose);
+  // `obstacle`: a box or a truck bed's part the machine can collide with (not
+  // the ground plane or a site's base); counted by machine_touches_obstacle.
+  void add_static_ground(btCollisionShape* shape, const btTransform& pose, bool obstacle = false);
   void soil_on_machine();
   // The bucket's automaton at this soil and cell size (null when the
   // loader's bucket has no interior); throws std::invalid_argument naming

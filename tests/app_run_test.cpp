@@ -133,7 +133,30 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
     int gates = 0;
     for (const auto& e : report["events"]) gates += e["kind"] == "task_progress";
     EXPECT_EQ(gates, 4);
+    EXPECT_EQ(m["collisions"].get<double>(), 0.0) << "the script drives wide of the cones";
   }
+}
+
+// A collision is measured: driven straight through the first cone, the
+// machine hits it (an event, a metric the course's score weighs).
+TEST(SkidsimRun, DrivingIntoAConeIsACollision) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_collision";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "through.xml") << R"(<operator_script name="through the cone">
+  <raise angle_rad="0.2"/>
+  <drive_to to="12 10" speed="0.6" tolerance_m="0.3" time_limit_s="15"/>
+</operator_script>
+)";
+  const std::string src = SKIDSIM_SOURCE_DIR;
+  const auto r = run_skidsim("run " + src + "/scenarios/driving_course.xml --script " + (dir / "through.xml").string() +
+                             " --max-s 20 --out " + (dir / "run").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "run" / "report.json"));
+  EXPECT_GE(report["metrics"]["collisions"].get<double>(), 1.0);
+  int events = 0;
+  for (const auto& e : report["events"]) events += e["kind"] == "collision";
+  EXPECT_EQ(events, report["metrics"]["collisions"].get<int>());
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, ShippedScenario,
