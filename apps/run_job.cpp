@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <vector>
 #include <iostream>
 #include <memory>
@@ -85,7 +86,9 @@ int run_session(const RunJob& job) {
   if (replaying) {
     lcm::LogFile recorded(job.replay_path, "r");
     if (!recorded.good()) throw io::InputError(job.replay_path + ": cannot read the LCM log");
+    off_t last_good_end = 0;
     while (const lcm::LogEvent* e = recorded.readNextEvent()) {
+      last_good_end = ftello(recorded.getFilePtr());
       if (e->channel != ex.operator_source.channel + "_APPLIED") continue;
       skidsim_lcm::control_t m{};
       if (m.decode(e->data, 0, e->datalen) < 0 || m.sim_step < 0 || m.sim_step % kStepsPerTick != 0)
@@ -95,6 +98,13 @@ int run_session(const RunJob& job) {
       if (tick != replay.size())
         throw io::InputError(job.replay_path + ": applied controls are not one per tick from the start (tick " +
                              std::to_string(tick) + ")");
+      // A recording holds only accepted controls: anything else is a damaged log.
+      const double levers[] = {m.drive_left, m.drive_right, m.lift, m.tilt};
+      bool valid = std::isfinite(m.throttle) && m.throttle >= 0.0 && m.throttle <= 1.0;
+      for (double v : levers) valid = valid && std::isfinite(v) && std::abs(v) <= 1.0;
+      if (!valid)
+        throw io::InputError(job.replay_path + ": an applied control out of range or not finite at " +
+                             std::to_string(e->timestamp) + " us (tick " + std::to_string(tick) + ")");
       vehicle::LoaderControls c;
       c.drive_left = m.drive_left;
       c.drive_right = m.drive_right;
@@ -105,6 +115,13 @@ int run_session(const RunJob& job) {
       replay.push_back(c);
     }
     if (replay.empty()) throw io::InputError(job.replay_path + ": no applied controls on " + ex.operator_source.channel + "_APPLIED");
+    // LCM stops quietly at a cut or corrupt event: whatever follows the last
+    // whole one would be lost from the replay.
+    const auto size = static_cast<off_t>(std::filesystem::file_size(job.replay_path));
+    if (last_good_end < size)
+      throw io::InputError(job.replay_path + ": the log is truncated or corrupt at byte " +
+                           std::to_string(static_cast<long long>(last_good_end)) + " of " +
+                           std::to_string(static_cast<long long>(size)));
     if (!script_path.empty() && !job.script_path.empty()) throw io::InputError("--replay and --script: give one");
   }
   if (!script_path.empty() && !replaying) player = std::make_unique<OperatorPlayer>(io::load_operator_script(script_path));

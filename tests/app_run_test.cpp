@@ -80,6 +80,18 @@ TEST(SkidsimRun, ReplayingASessionsLogReproducesItsFinalState) {
   EXPECT_EQ(b["end_reason"], "replay_done");
   EXPECT_EQ(a["final_state_hash"], b["final_state_hash"]);
   EXPECT_EQ(a["metrics"]["material_moved_kg"], b["metrics"]["material_moved_kg"]);
+  // The log cut short: refused naming the byte, exit 2, nothing written
+  // (LCM itself stops quietly at a cut; the replay would be short).
+  {
+    const std::string cut = rep.string() + ".cut";
+    std::ifstream in(rec / "session.lcmlog", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    const auto t = run_skidsim("run " + kScenario + " --replay " + cut + " --out " + rep.string() + "3");
+    EXPECT_EQ(t.exit_code, 2) << t.output;
+    EXPECT_NE(t.output.find("truncated or corrupt at byte"), std::string::npos) << t.output;
+    EXPECT_FALSE(fs::exists(rep.string() + "3"));
+  }
   // A log that is not one: refused, exit 2.
   std::ofstream(rep.string() + ".bad") << "not a log";
   EXPECT_EQ(run_skidsim("run " + kScenario + " --replay " + rep.string() + ".bad --out " + rep.string() + "2").exit_code, 2);
