@@ -34,7 +34,7 @@ constexpr int kStepsPerSample = 100;    // the report's timeline at 5 Hz
 constexpr int kMissedTicksToEnd = 25;   // lockstep: this many ticks in a row without a command ends the session
 
 // FNV-1a over the bytes of what defines the final state: the terrain, the
-// bucket's and beds' loads, the machine's pose.
+// bucket's and beds' loads, every link's pose and the chassis's velocity.
 std::uint64_t state_hash(const engine::World& w) {
   std::uint64_t h = 1469598103934665603ull;
   const auto add = [&h](const void* data, std::size_t n) {
@@ -50,8 +50,12 @@ std::uint64_t state_hash(const engine::World& w) {
   if (w.terrain()) add_grid(*w.terrain());
   if (w.bucket_material()) add_grid(w.bucket_material()->grid());
   for (int k = 0; k < w.tray_count(); ++k) add_grid(w.tray(k).grid());
-  const Eigen::Matrix4d pose = w.loader().link_pose(0).matrix();
-  add(pose.data(), sizeof(double) * 16);
+  for (std::size_t k = 0; k < w.loader().description().links.size(); ++k) {
+    const Eigen::Matrix4d pose = w.loader().link_pose(static_cast<int>(k)).matrix();
+    add(pose.data(), sizeof(double) * 16);
+  }
+  const Eigen::Vector3d v = w.loader().chassis_velocity();
+  add(v.data(), sizeof(double) * 3);
   return h;
 }
 
@@ -328,6 +332,7 @@ int run_session(const RunJob& job) {
       {"metrics", metrics},
       {"metrics_not_measured_yet", not_measured},
       {"passes", tasks.metrics().passes},
+      {"peak_bucket_acceleration_m_s2", tasks.metrics().peak_bucket_acceleration_m_s2},
       {"events", events},
       {"timeline", timeline_json},
       {"controls", {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},

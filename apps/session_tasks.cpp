@@ -15,6 +15,7 @@ const io::Zone* find_zone(const io::Exercise& ex, const std::string& id) {
 
 constexpr double kTippingHoldS = 0.25;
 constexpr double kTippingRearmS = 0.5;
+constexpr double kImpactMps2 = 40.0;  // about 4 g; the shipped scripts peak at 16-24
 
 }  // namespace
 
@@ -22,7 +23,8 @@ bool Metrics::measured(const std::string& name) {
   static const char* const kMeasured[] = {"completion_time_s", "material_moved_kg", "tasks_done",
                                           "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s",
                                           "left_work_area_s", "material_rate_kg_h", "spillage_kg",
-                                          "bucket_fill_per_pass", "engine_energy_MJ", "collisions"};
+                                          "bucket_fill_per_pass", "engine_energy_MJ", "collisions",
+                                          "bucket_impacts"};
   for (const char* m : kMeasured)
     if (name == m) return true;
   return false;
@@ -41,6 +43,7 @@ double Metrics::value(const std::string& name) const {
   if (name == "bucket_fill_per_pass") return bucket_fill_per_pass;
   if (name == "engine_energy_MJ") return engine_energy_MJ;
   if (name == "collisions") return collisions;
+  if (name == "bucket_impacts") return bucket_impacts;
   return 0.0;
 }
 
@@ -222,6 +225,26 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   if (tipping_ && rear_loaded_s_ >= kTippingRearmS) tipping_ = false;
   if (l.chassis_velocity().head<2>().norm() < 0.05) metrics_.idle_time_s += dt_s;
   if (worst_slip > 0.3) metrics_.wheel_slip_time_s += dt_s;
+  // Harsh handling: the bucket's centre of mass changing velocity faster
+  // than kImpactMps2 over a tick (dropped onto the ground, slammed into a
+  // stop or a truck's side); one impact counts once within 0.5 s.
+  {
+    Eigen::Vector3d v, omega;
+    l.link_velocity(static_cast<int>(l.description().links.size()) - 1, v, omega);
+    since_impact_s_ += dt_s;
+    if (have_bucket_velocity_) {
+      const double a = (v - bucket_velocity_).norm() / dt_s;
+      if (t > 1.0) metrics_.peak_bucket_acceleration_m_s2 = std::max(metrics_.peak_bucket_acceleration_m_s2, a);
+      // (Not in the first second: the machine settling onto its wheels.)
+      if (a > kImpactMps2 && since_impact_s_ >= 0.5 && t > 1.0) {
+        metrics_.bucket_impacts += 1.0;
+        since_impact_s_ = 0.0;
+        emit(t, "warning", "bucket impact: " + std::to_string(std::lround(a / 9.81)) + " g", 1);
+      }
+    }
+    bucket_velocity_ = v;
+    have_bucket_velocity_ = true;
+  }
   // A collision: the machine's body, arm or bucket touching an obstacle or a
   // truck; one contact that lasts counts once, and a new one only after the
   // machine has been clear for 0.5 s.

@@ -35,6 +35,8 @@ struct Metrics {
   double idle_time_s = 0.0;
   double wheel_slip_time_s = 0.0;
   double left_work_area_s = 0.0;
+  double bucket_impacts = 0.0;         // times the bucket was stopped (or thrown) harder than kImpactMps2
+  double peak_bucket_acceleration_m_s2 = 0.0;  // the hardest, over a 10 ms tick
   double collisions = 0.0;             // times the machine came into contact with an obstacle or truck
   double material_rate_kg_h = 0.0;     // material moved over the time taken
   double spillage_kg = 0.0;            // lost from the raised bucket away from the targets
@@ -89,6 +91,9 @@ class SessionTasks {
   double pass_peak_kg_ = 0.0, passes_kg_ = 0.0;
   double bucket_sample_s_ = 0.0, emptied_s_ = 0.0;
   bool touching_ = false;
+  Eigen::Vector3d bucket_velocity_ = Eigen::Vector3d::Zero();
+  bool have_bucket_velocity_ = false;
+  double since_impact_s_ = 1e9;
   double apart_s_ = 1e9;  // how long the machine has been clear of obstacles (collision re-arm)
 };
 

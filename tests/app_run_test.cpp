@@ -134,6 +134,7 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
   // carried, each pass was counted with its fill and little of it was spilt.
   const auto& m = report["metrics"];
   EXPECT_GT(m["engine_energy_MJ"].get<double>(), 0.0);
+  EXPECT_EQ(m["bucket_impacts"].get<double>(), 0.0) << "peak " << report["peak_bucket_acceleration_m_s2"];
   if (m["material_moved_kg"].get<double>() > 0.0) {
     EXPECT_GE(report["passes"].get<int>(), 1);
     EXPECT_GT(m["bucket_fill_per_pass"].get<double>(), 200.0);
@@ -150,7 +151,8 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
 }
 
 // A collision is measured: driven straight through the first cone, the
-// machine hits it (an event, a metric the course's score weighs).
+// machine hits it (an event, a metric the course's score weighs), and the
+// bucket's sudden stop is a harsh-handling impact.
 TEST(SkidsimRun, DrivingIntoAConeIsACollision) {
   const fs::path dir = fs::temp_directory_path() / "skidsim_run_collision";
   fs::remove_all(dir);
@@ -166,9 +168,16 @@ TEST(SkidsimRun, DrivingIntoAConeIsACollision) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "run" / "report.json"));
   EXPECT_GE(report["metrics"]["collisions"].get<double>(), 1.0);
-  int events = 0;
-  for (const auto& e : report["events"]) events += e["kind"] == "collision";
+  int events = 0, impacts = 0;
+  for (const auto& e : report["events"]) {
+    events += e["kind"] == "collision";
+    impacts += e["text"].get<std::string>().rfind("bucket impact", 0) == 0;
+  }
   EXPECT_EQ(events, report["metrics"]["collisions"].get<int>());
+  // The bucket meets the cone at speed: a harsh-handling impact too.
+  EXPECT_GE(report["metrics"]["bucket_impacts"].get<double>(), 1.0);
+  EXPECT_EQ(impacts, report["metrics"]["bucket_impacts"].get<int>());
+  EXPECT_GT(report["peak_bucket_acceleration_m_s2"].get<double>(), 40.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, ShippedScenario,
