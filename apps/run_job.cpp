@@ -18,6 +18,7 @@
 #include "apps/run_directory.h"
 #include "apps/session_tasks.h"
 #include "apps/session_world.h"
+#include "apps/terrain_tiles.h"
 #include "io/atomic_file.h"
 #include "io/control_input.h"
 #include "io/lcm_bridge.h"
@@ -31,6 +32,7 @@ using nlohmann::json;
 constexpr int kStepsPerTick = 5;        // controls every 10 ms
 constexpr int kStepsPerState = 10;      // state published at 50 Hz
 constexpr int kStepsPerSample = 100;    // the report's timeline at 5 Hz
+constexpr int kStepsPerTiles = 250;     // terrain tiles (when asked for) at 2 Hz
 constexpr int kMissedTicksToEnd = 25;   // lockstep: this many ticks in a row without a command ends the session
 
 // FNV-1a over the bytes of what defines the final state: the terrain, the
@@ -159,6 +161,17 @@ int run_session(const RunJob& job) {
   lcm::LogFile& log = *log_file;
   if (bridge) bridge->record_controls_to(&log);
 
+  // The optional terrain channel: every tile at the start, then those that
+  // changed, every kStepsPerTiles and at the end (so the log rebuilds the
+  // final surface).
+  std::unique_ptr<TerrainTiles> tiles;
+  if (job.terrain_tiles && world->terrain()) tiles = std::make_unique<TerrainTiles>(*world->terrain());
+  const auto send_tiles = [&](long step, double t) {
+    tiles->send_changed(*world->terrain(), step, t, [&](const skidsim_lcm::terrain_tile_t& m) {
+      log_message(log, channels.terrain, m, t);
+      if (bridge) bridge->publish_terrain_tile(m);
+    });
+  };
   const double limit_s = job.max_s > 0.0 ? job.max_s : ex.time_limit_s;
   Progress progress("run", limit_s);
   vehicle::LoaderControls controls;
@@ -253,6 +266,7 @@ int run_session(const RunJob& job) {
         log_message(log, channels.events, m, t);
         if (bridge) bridge->publish_event(m);
       }
+      if (tiles && step % kStepsPerTiles == 0) send_tiles(step, t);
       if (step % kStepsPerSample == 0) {
         double progress_now = 0.0, worst_slip = 0.0;
         for (const TaskProgress& p : tasks.tasks())
@@ -298,6 +312,7 @@ int run_session(const RunJob& job) {
     progress.update(world->time_s(), tasks.tasks().empty() ? "" : tasks.tasks().front().detail);
   }
   progress.finish();
+  if (tiles) send_tiles(world->steps(), world->time_s());
   const double wall_s = progress.wall_seconds(), sim_s = world->time_s();
 
   json task_list = json::array();

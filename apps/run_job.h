@@ -19,6 +19,7 @@ struct RunJob {
   std::string mode;         // fast, realtime, lockstep; empty: fast with a script, realtime over LCM
   std::string replay_path;  // a session's session.lcmlog: its applied controls, tick by tick (mode fast)
   double max_s = 0.0;       // 0: the exercise's time limit
+  bool terrain_tiles = false;  // publish and log the soil's changed tiles every 0.5 s (SKIDSIM_TERRAIN)
 };
 
 // Returns the exit code: 0 when the session ran (report.json says whether

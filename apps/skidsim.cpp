@@ -207,13 +207,16 @@ int main(int argc, char** argv) {
   skidsim::apps::RunJob run;
   CLI::App* run_cmd = app.add_subcommand(
       "run", "Run a training session from an exercise file: its world, operator (a script, or commands over\n"
-             "LCM), tasks and score; writes a run directory (report.json, session.lcmlog, final terrain)");
+             "LCM), tasks and score; writes a run directory (report.json, report.html, session.lcmlog, final terrain)");
   run_cmd->add_option("exercise", run.exercise_path, "Exercise file")->required();
   run_cmd->add_option("--out", run.out_dir, "Run directory to write")->capture_default_str();
   run_cmd->add_option("--script", run.script_path, "Operator script (default: the exercise's operator)");
   run_cmd->add_option("--lcm", run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
   run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
   run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time (default: the exercise's limit)");
+  run_cmd->add_flag("--terrain-tiles", run.terrain_tiles,
+                    "Also send the soil's surface over LCM and to the log (SKIDSIM_TERRAIN): every 32 x 32 tile\n"
+                    "at the start, then those that changed, every 0.5 s and at the end");
   run_cmd->add_option("--replay", run.replay_path,
                       "Replay a session: the controls its session.lcmlog applied, tick by tick (the same final state)");
 

@@ -63,4 +63,6 @@ void LcmBridge::publish_state(const skidsim_lcm::state_t& state) { lcm_->publish
 
 void LcmBridge::publish_event(const skidsim_lcm::event_t& event) { lcm_->publish(channels_.events, &event); }
 
+void LcmBridge::publish_terrain_tile(const skidsim_lcm::terrain_tile_t& tile) { lcm_->publish(channels_.terrain, &tile); }
+
 }  // namespace skidsim::io

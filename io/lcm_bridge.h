@@ -13,6 +13,7 @@
 #include "io/control_input.h"
 #include "skidsim_lcm/event_t.hpp"
 #include "skidsim_lcm/state_t.hpp"
+#include "skidsim_lcm/terrain_tile_t.hpp"
 
 namespace skidsim::io {
 
@@ -22,6 +23,7 @@ struct LcmChannels {
   std::string control = "SKIDSIM_CONTROL";
   std::string state = "SKIDSIM_STATE";
   std::string events = "SKIDSIM_EVENTS";
+  std::string terrain = "SKIDSIM_TERRAIN";  // optional: terrain_tile_t
 };
 
 class LcmBridge {
@@ -51,6 +53,7 @@ class LcmBridge {
 
   void publish_state(const skidsim_lcm::state_t& state);
   void publish_event(const skidsim_lcm::event_t& event);
+  void publish_terrain_tile(const skidsim_lcm::terrain_tile_t& tile);
   lcm::LCM& lcm() { return *lcm_; }
 
  private:

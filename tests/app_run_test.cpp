@@ -9,6 +9,8 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <chrono>
+#include <cmath>
+#include <vector>
 #include <cstdlib>
 #include <string>
 #include <thread>
@@ -16,6 +18,8 @@
 #include "skidsim_lcm/control_t.hpp"
 #include "skidsim_lcm/event_t.hpp"
 #include "skidsim_lcm/state_t.hpp"
+#include "skidsim_lcm/terrain_tile_t.hpp"
+#include "io/heightmap.h"
 #include "tests/app_support.h"
 
 namespace {
@@ -185,6 +189,51 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, ShippedScenario,
                                            Scenario{"truck_loading", true}, Scenario{"grading", true},
                                            Scenario{"trench_backfill", true}, Scenario{"soft_slope_climb", true}),
                          [](const ::testing::TestParamInfo<Scenario>& p) { return std::string(p.param.name); });
+
+// The optional terrain channel: every tile once at the start, then only
+// tiles that changed; rebuilt from the log, the surface is the session's
+// final terrain (to the height map's resolution).
+TEST(SkidsimRun, TerrainTilesInTheLogRebuildTheFinalSurface) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_tiles";
+  fs::remove_all(dir);
+  const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --max-s 30 --terrain-tiles --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const skidsim::io::Heightmap final_map = skidsim::io::read_heightmap((dir / "terrain_surface.json").string());
+  const auto nx = static_cast<std::size_t>(final_map.nx), ny = static_cast<std::size_t>(final_map.ny);
+  std::vector<double> rebuilt(nx * ny, std::nan(""));
+  std::vector<int> sent_at_start(nx * ny, 0);
+  int tiles = 0, later = 0;
+  lcm::LogFile log((dir / "session.lcmlog").string(), "r");
+  ASSERT_TRUE(log.good());
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel != "SKIDSIM_TERRAIN") continue;
+    skidsim_lcm::terrain_tile_t m;
+    ASSERT_GE(m.decode(e->data, 0, e->datalen), 0);
+    ASSERT_EQ(m.grid_nx, final_map.nx);
+    ASSERT_EQ(m.grid_ny, final_map.ny);
+    ASSERT_EQ(m.num_cells, m.ni * m.nj);
+    ++tiles;
+    later += m.step > 0;
+    for (int j = 0; j < m.nj; ++j)
+      for (int i = 0; i < m.ni; ++i) {
+        const std::size_t c = static_cast<std::size_t>(m.j0 + j) * nx + static_cast<std::size_t>(m.i0 + i);
+        rebuilt[c] = m.surface_m[static_cast<std::size_t>(j * m.ni + i)];
+        sent_at_start[c] += m.step == 0;
+      }
+  }
+  const int all = static_cast<int>(((nx + 31) / 32) * ((ny + 31) / 32));
+  EXPECT_GT(later, 0) << "digging changes the terrain";
+  EXPECT_LT(later, 60 * all) << "only changed tiles are sent again";
+  EXPECT_EQ(tiles - later, all);
+  double worst = 0.0;
+  for (std::size_t c = 0; c < nx * ny; ++c) {
+    ASSERT_EQ(sent_at_start[c], 1) << "cell " << c;
+    worst = std::max(worst, std::abs(rebuilt[c] - final_map.height_m[c]));
+  }
+  std::printf("[ measured ] %d tiles at the start, %d changed ones after; rebuilt within %.2g m\n", tiles - later, later, worst);
+  // Float heights, changes under 1 mm not resent, the PNG's quantisation.
+  EXPECT_LT(worst, 0.0011);
+}
 
 TEST(SkidsimRun, SameScriptTwiceGivesTheSameFinalState) {
   std::string hash[2];
