@@ -26,27 +26,11 @@ fi
 ALL=(exercise operator_script soil_table loader_params loader_urdf control lcm_log)
 if (($#)); then HARNESSES=("$@"); else HARNESSES=("${ALL[@]}"); fi
 
-PACKAGES=(
-  # what scripts/setup.sh installs (the configure finds every dependency)
-  build-essential cmake pkg-config libeigen3-dev libpng-dev libtinyxml2-dev nlohmann-json3-dev libcli11-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libbullet-dev liburdfdom-dev libassimp-dev
-  liblcm-dev liblcm-bin libglib2.0-dev
-  clang-14               # the compiler
-  libclang-rt-14-dev     # libFuzzer and the sanitizer runtimes
-  llvm-14                # llvm-symbolizer: stacks with file and line
-)
-
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  SUDO=()
-  if [[ $(id -u) -ne 0 ]]; then SUDO=(sudo); fi
-  echo "fuzz: installing ${missing[*]}"
-  "${SUDO[@]}" apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+source scripts/packages.sh
+install_packages fuzz "${SKIDSIM_PACKAGES[@]}" \
+  clang-14 \
+  libclang-rt-14-dev `# libFuzzer and the sanitizer runtimes` \
+  llvm-14            `# llvm-symbolizer: stacks with file and line`
 
 B=build-fuzz
 cmake -S . -B "$B" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
