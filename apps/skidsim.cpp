@@ -14,6 +14,7 @@
 #include "apps/pour_job.h"
 #include "apps/push_job.h"
 #include "apps/operator_job.h"
+#include "apps/render_job.h"
 #include "apps/run_job.h"
 #include "apps/session_world.h"
 #include "io/operator_script.h"
@@ -220,6 +221,19 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--replay", run.replay_path,
                       "Replay a session: the controls its session.lcmlog applied, tick by tick (the same final state)");
 
+  skidsim::apps::RenderJob render_job;
+  CLI::App* render_cmd = app.add_subcommand(
+      "render", "Render one frame of an exercise off-screen (EGL, else OSMesa): its world at the start, or after\n"
+                "its operator script has played for --at-s seconds; from one of its cameras; a PNG");
+  render_cmd->add_option("exercise", render_job.exercise_path, "Exercise file")->required();
+  render_cmd->add_option("--out", render_job.out_path, "PNG to write")->capture_default_str();
+  render_cmd->add_option("--camera", render_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
+  render_cmd->add_option("--backend", render_job.backend, "auto, egl or osmesa")->capture_default_str();
+  render_cmd->add_option("--width", render_job.width, "Pixels (default: the exercise's <record>)");
+  render_cmd->add_option("--height", render_job.height, "Pixels (default: the exercise's <record>)");
+  render_cmd->add_option("--script", render_job.script_path, "Operator script to play first");
+  render_cmd->add_option("--at-s", render_job.at_s, "Simulated seconds of the script to play first");
+
   skidsim::apps::OperatorJob operator_job;
   CLI::App* operator_cmd = app.add_subcommand(
       "operator", "Play an operator script as a process of its own: listen to the simulator's state over LCM and\n"
@@ -269,6 +283,7 @@ int main(int argc, char** argv) {
     if (*dig_cmd) return skidsim::apps::run_dig_job(dig);
     if (*run_cmd) return skidsim::apps::run_session(run);
     if (*operator_cmd) return skidsim::apps::run_operator(operator_job);
+    if (*render_cmd) return skidsim::apps::render_frame(render_job);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);

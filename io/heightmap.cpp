@@ -1,4 +1,5 @@
 #include "io/heightmap.h"
+#include "io/png_image.h"
 
 #include <png.h>
 
@@ -33,30 +34,8 @@ struct FileCloser {
 };
 
 void write_png16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& rows) {
-  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw std::runtime_error("cannot open " + path + " for writing");
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info) {
-    png_destroy_write_struct(&png, &info);
-    throw std::runtime_error("libpng: cannot create writer for " + path);
-  }
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    throw std::runtime_error("libpng: error while writing " + path);
-  }
-  png_init_io(png, file.get());
-  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 16,
-               PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  png_set_swap(png);  // PNG stores 16-bit samples big-endian
-  for (int r = 0; r < height; ++r) {
-    png_write_row(png, reinterpret_cast<png_const_bytep>(&rows[static_cast<std::size_t>(r) * width]));
-  }
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  if (std::fflush(file.get()) != 0) throw std::runtime_error("cannot write " + path);
+  write_png_rows(path, width, height, 16, PNG_COLOR_TYPE_GRAY, reinterpret_cast<const std::uint8_t*>(rows.data()),
+                 static_cast<std::size_t>(width) * sizeof(std::uint16_t));
 }
 
 std::vector<std::uint16_t> read_png16(const std::string& path, int& width, int& height) {

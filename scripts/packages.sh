@@ -14,6 +14,8 @@ SKIDSIM_PACKAGES=(
   liburdfdom-dev         # the loader's URDF
   libassimp-dev          # visual meshes
   liblcm-dev liblcm-bin libglib2.0-dev  # LCM: messages, lcm-gen, lcm-logger (pkg-config lcm needs glib)
+  libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev  # off-screen OpenGL: EGL, Mesa's drivers, GL headers
+  libosmesa6-dev         # off-screen OpenGL: the OSMesa fallback
 )
 
 # install_packages WHO PACKAGE...: installs those not installed yet.

@@ -1,0 +1,180 @@
+#include "apps/scene_snapshot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace skidsim::apps {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const Eigen::Vector3f kMachineYellow(0.86f, 0.62f, 0.08f);
+const Eigen::Vector3f kBucketGrey(0.25f, 0.25f, 0.27f);
+const Eigen::Vector3f kTyreBlack(0.06f, 0.06f, 0.06f);
+
+// A visual mesh, flat-shaded: each triangle its own three vertices.
+render::Mesh flat_mesh(const vehicle::VisualMesh& v) {
+  render::Mesh m;
+  for (const auto& t : v.triangles) {
+    const Eigen::Vector3f a = v.vertices_m[t[0]], b = v.vertices_m[t[1]], c = v.vertices_m[t[2]];
+    Eigen::Vector3f n = (b - a).cross(c - a);
+    n = n.norm() > 0.0f ? n.normalized() : Eigen::Vector3f::UnitZ();
+    for (const Eigen::Vector3f& p : {a, b, c}) {
+      m.indices.push_back(static_cast<std::uint32_t>(m.positions_m.size()));
+      m.positions_m.push_back(p);
+      m.normals.push_back(n);
+    }
+  }
+  return m;
+}
+
+// A cube from -0.5 to 0.5, flat-shaded.
+render::Mesh unit_cube() {
+  render::Mesh m;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2) {
+      Eigen::Vector3f n = Eigen::Vector3f::Zero();
+      n[axis] = static_cast<float>(sign);
+      const Eigen::Vector3f u = Eigen::Vector3f::Unit((axis + 1) % 3), w = Eigen::Vector3f::Unit((axis + 2) % 3);
+      const auto base = static_cast<std::uint32_t>(m.positions_m.size());
+      for (const auto& [a, b] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+        m.positions_m.push_back(0.5f * (n + static_cast<float>(a) * u + static_cast<float>(b) * w));
+        m.normals.push_back(n);
+      }
+      if (sign > 0) {
+        m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+      } else {
+        m.indices.insert(m.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+      }
+    }
+  return m;
+}
+
+Eigen::Affine3d box_pose(const Eigen::Isometry3d& frame, const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
+  Eigen::Affine3d a = Eigen::Affine3d::Identity();
+  a = frame * Eigen::Translation3d(centre);
+  a.scale(size);
+  return a;
+}
+
+// The machine's meshes' poses, in static_scene's order: each link's
+// visuals, then each wheel's.
+template <class F>
+void for_each_machine_part(const vehicle::Loader& l, F&& f) {
+  const vehicle::LoaderDescription& d = l.description();
+  for (std::size_t k = 0; k < d.links.size(); ++k)
+    for (const vehicle::VisualMesh& v : d.links[k].visuals) {
+      const Eigen::Isometry3d link = l.link_pose(static_cast<int>(k));
+      const Eigen::Isometry3d visual = Eigen::Translation3d(v.pose.position_m) * v.pose.rotation;
+      f(v, Eigen::Affine3d(link * visual), k + 1 == d.links.size() && k > 0 ? kBucketGrey : kMachineYellow);
+    }
+  for (const vehicle::Wheel& w : d.wheels)
+    for (const vehicle::VisualMesh& v : w.visuals) {
+      const Eigen::Isometry3d hub = l.link_pose(0) * Eigen::Translation3d(w.hub_m);
+      const Eigen::Isometry3d visual = Eigen::Translation3d(v.pose.position_m) * v.pose.rotation;
+      f(v, Eigen::Affine3d(hub * visual), kTyreBlack);
+    }
+}
+
+render::HeightField field_of(const terrain::GranularGrid& g, const Eigen::Isometry3d& frame, bool only_material) {
+  render::HeightField f;
+  f.nx = g.nx();
+  f.ny = g.ny();
+  f.cell_m = g.cell_size_m();
+  f.pose = frame * Eigen::Translation3d(g.spec().origin_m.x(), g.spec().origin_m.y(), 0.0);
+  f.height_m.resize(static_cast<std::size_t>(f.nx) * f.ny);
+  if (only_material) f.shows.resize(f.height_m.size());
+  for (int j = 0; j < f.ny; ++j)
+    for (int i = 0; i < f.nx; ++i) {
+      const auto c = static_cast<std::size_t>(g.index(i, j));
+      f.height_m[c] = static_cast<float>(g.surface_m(i, j));
+      if (only_material) f.shows[c] = g.material_quanta(i, j) > 0;
+    }
+  return f;
+}
+
+}  // namespace
+
+render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
+  render::Scene s;
+  // The machine first (update_scene walks the same order).
+  for_each_machine_part(world.loader(), [&](const vehicle::VisualMesh& v, const Eigen::Affine3d& pose, const Eigen::Vector3f& colour) {
+    s.meshes.push_back(flat_mesh(v));
+    s.instances.push_back({static_cast<int>(s.meshes.size()) - 1, pose, colour});
+  });
+  s.meshes.push_back(unit_cube());
+  const int cube = static_cast<int>(s.meshes.size()) - 1;
+  const Eigen::Vector2d size = ex.site_size_m;
+  if (ex.firm_ground) {
+    // The yard, a little beyond the site.
+    const Eigen::Vector3d centre(0.5 * size.x(), 0.5 * size.y(), -0.05);
+    s.instances.push_back({cube, box_pose(Eigen::Isometry3d::Identity(), centre, Eigen::Vector3d(size.x() + 20.0, size.y() + 20.0, 0.1)),
+                           Eigen::Vector3f(0.42f, 0.40f, 0.36f)});
+  }
+  for (const io::BoxObstacle& b : ex.boxes) {
+    const Eigen::Isometry3d frame(Eigen::AngleAxisd(b.yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()));
+    Eigen::Affine3d pose = Eigen::Translation3d(b.centre_m) * Eigen::Affine3d(frame.linear());
+    pose.scale(b.size_m);
+    s.instances.push_back({cube, pose, Eigen::Vector3f(0.95f, 0.35f, 0.05f)});
+  }
+  for (const io::TruckBed& t : ex.trucks) {
+    Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+    frame.linear() = Eigen::AngleAxisd(t.yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    frame.translation() = Eigen::Vector3d(t.back_corner_m.x(), t.back_corner_m.y(), t.floor_height_m);
+    const double L = t.length_m, W = t.width_m, H = t.wall_height_m, w = 0.05;
+    const Eigen::Vector3f bed(0.55f, 0.12f, 0.10f);
+    s.instances.push_back({cube, box_pose(frame, {0.5 * L, 0.5 * W, -0.05}, {L, W, 0.1}), bed});
+    s.instances.push_back({cube, box_pose(frame, {0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed});
+    s.instances.push_back({cube, box_pose(frame, {L - 0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed});
+    s.instances.push_back({cube, box_pose(frame, {0.5 * L, 0.5 * w, 0.5 * H}, {L, w, H}), bed});
+    s.instances.push_back({cube, box_pose(frame, {0.5 * L, W - 0.5 * w, 0.5 * H}, {L, w, H}), bed});
+    // What carries the bed: a dark block under it.
+    if (t.floor_height_m > 0.15)
+      s.instances.push_back({cube, box_pose(frame, {0.5 * L, 0.5 * W, -0.5 * t.floor_height_m}, {L * 0.9, W * 0.8, t.floor_height_m - 0.1}),
+                             Eigen::Vector3f(0.15f, 0.15f, 0.17f)});
+  }
+  s.shadow_bounds_m = Eigen::AlignedBox3d(Eigen::Vector3d(-2, -2, -1), Eigen::Vector3d(size.x() + 2, size.y() + 2, 5));
+  update_scene(world, s);
+  return s;
+}
+
+void update_scene(const engine::World& world, render::Scene& s) {
+  std::size_t k = 0;
+  for_each_machine_part(world.loader(), [&](const vehicle::VisualMesh&, const Eigen::Affine3d& pose, const Eigen::Vector3f&) {
+    s.instances[k++].pose = pose;
+  });
+  s.fields.clear();
+  if (const terrain::GranularGrid* g = world.terrain()) s.fields.push_back(field_of(*g, Eigen::Isometry3d::Identity(), false));
+  if (const terrain::BodyAutomaton* b = world.bucket_material()) s.fields.push_back(field_of(b->grid(), b->pose(), true));
+  for (int t = 0; t < world.tray_count(); ++t) s.fields.push_back(field_of(world.tray(t).grid(), world.tray(t).pose(), true));
+}
+
+render::Camera exercise_camera(const std::string& name, const io::Exercise& ex, const engine::World& world) {
+  const Eigen::Isometry3d chassis = world.loader().link_pose(0);
+  const Eigen::Vector3d x = chassis.linear().col(0);
+  const Eigen::Vector3d ahead = Eigen::Vector3d(x.x(), x.y(), 0.0).normalized();
+  const Eigen::Vector3d at = chassis.translation();
+  render::Camera c;
+  if (name == "chase") {  // behind and above, looking over the machine
+    c.eye_m = at - 6.5 * ahead + Eigen::Vector3d(0, 0, 3.8);
+    c.target_m = at + 2.0 * ahead + Eigen::Vector3d(0, 0, 0.3);
+  } else if (name == "cab") {  // the operator's seat, looking out over the bucket
+    c.eye_m = chassis * Eigen::Vector3d(-0.15, 0.0, 1.25);
+    c.target_m = chassis * Eigen::Vector3d(4.0, 0.0, 0.2);
+    c.fov_y_deg = 70.0;
+    c.near_m = 0.05;
+  } else if (name == "aerial") {  // straight down on the whole site
+    const Eigen::Vector2d mid = 0.5 * ex.site_size_m;
+    c.target_m = Eigen::Vector3d(mid.x(), mid.y(), 0.0);
+    c.eye_m = c.target_m + Eigen::Vector3d(0, -0.2 * ex.site_size_m.maxCoeff(), 1.1 * ex.site_size_m.maxCoeff());
+  } else if (name == "fixed") {  // from beyond the site's corner, at the site
+    const Eigen::Vector2d mid = 0.5 * ex.site_size_m;
+    c.target_m = Eigen::Vector3d(mid.x(), mid.y(), 0.0);
+    c.eye_m = Eigen::Vector3d(-0.15 * ex.site_size_m.x(), -0.15 * ex.site_size_m.y(), 0.45 * ex.site_size_m.maxCoeff());
+  } else {
+    throw std::invalid_argument("camera '" + name + "': expected cab, chase, aerial or fixed");
+  }
+  return c;
+}
+
+}  // namespace skidsim::apps

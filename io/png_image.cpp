@@ -1,0 +1,102 @@
+#include "io/png_image.h"
+
+#include <png.h>
+
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+
+#include "io/atomic_file.h"
+
+namespace skidsim::io {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+
+}  // namespace
+
+void write_png_rows(const std::string& path, int width, int height, int bit_depth, int colour_type,
+                    const std::uint8_t* data, std::size_t row_bytes) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+  if (!file) throw std::runtime_error("cannot open " + path + " for writing");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng: cannot create writer for " + path);
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng: error while writing " + path);
+  }
+  png_init_io(png, file.get());
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth, colour_type,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  if (bit_depth == 16) png_set_swap(png);  // PNG stores 16-bit samples big-endian
+  for (int r = 0; r < height; ++r) png_write_row(png, data + static_cast<std::size_t>(r) * row_bytes);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (std::fflush(file.get()) != 0) throw std::runtime_error("cannot write " + path);
+}
+
+void write_png_rgb8(const std::string& path, const RgbImage& image) {
+  if (image.width < 1 || image.height < 1 ||
+      image.rgb.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
+    throw std::invalid_argument("write_png_rgb8: the pixels do not match " + std::to_string(image.width) + " x " +
+                                std::to_string(image.height));
+  write_atomically(path, [&](const std::string& tmp) {
+    write_png_rows(tmp, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, image.rgb.data(),
+                   static_cast<std::size_t>(image.width) * 3);
+  });
+}
+
+RgbImage read_png_rgb8(const std::string& path) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file) throw InputError(path + ": cannot open the image");
+  png_byte signature[8];
+  if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0)
+    throw InputError(path + ": not a PNG file");
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw std::runtime_error("libpng: cannot create reader for " + path);
+  }
+  // libpng reports errors by longjmp: the buffers live behind a pointer made
+  // before setjmp.
+  const auto image = std::make_unique<RgbImage>();
+  std::vector<png_bytep> rows;
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw InputError(path + ": corrupt or truncated PNG");
+  }
+  png_init_io(png, file.get());
+  png_set_sig_bytes(png, 8);
+  png_read_info(png, info);
+  // Whatever it holds, as 8-bit RGB.
+  png_set_expand(png);
+  png_set_strip_16(png);
+  png_set_strip_alpha(png);
+  png_set_gray_to_rgb(png);
+  png_read_update_info(png, info);
+  image->width = static_cast<int>(png_get_image_width(png, info));
+  image->height = static_cast<int>(png_get_image_height(png, info));
+  if (png_get_rowbytes(png, info) != static_cast<std::size_t>(image->width) * 3) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw InputError(path + ": cannot read it as 8-bit RGB");
+  }
+  image->rgb.resize(static_cast<std::size_t>(image->width) * static_cast<std::size_t>(image->height) * 3);
+  rows.resize(static_cast<std::size_t>(image->height));
+  for (int r = 0; r < image->height; ++r) rows[static_cast<std::size_t>(r)] = &image->rgb[static_cast<std::size_t>(r) * image->width * 3];
+  png_read_image(png, rows.data());
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return *image;
+}
+
+}  // namespace skidsim::io

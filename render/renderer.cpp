@@ -1,0 +1,344 @@
+#include "render/renderer.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "render/terrain_mesh.h"
+
+namespace skidsim::render {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+const char* const kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+uniform mat4 model;
+uniform mat4 view_projection;
+uniform mat4 sun_view_projection;
+out vec3 world_position;
+out vec3 world_normal;
+out vec4 sun_position;
+void main() {
+  vec4 p = model * vec4(position, 1.0);
+  world_position = p.xyz;
+  world_normal = mat3(model) * normal;  // rigid poses: no scaling
+  sun_position = sun_view_projection * p;
+  gl_Position = view_projection * p;
+}
+)";
+
+const char* const kFragmentShader = R"(#version 330 core
+in vec3 world_position;
+in vec3 world_normal;
+in vec4 sun_position;
+uniform vec3 colour;
+uniform vec3 to_sun;
+uniform vec3 sky;
+uniform vec3 eye;
+uniform float grain;  // 1 for sand: a pattern fixed to the world
+uniform sampler2D sun_depth;
+out vec4 frag_colour;
+float hash(vec2 p) { return fract(sin(dot(p, vec2(127.1, 311.7))) * 43758.5453); }
+float lit_by_sun(vec3 n) {
+  vec3 p = sun_position.xyz / sun_position.w * 0.5 + 0.5;
+  if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
+  float bias = 0.0015 + 0.003 * (1.0 - max(dot(n, to_sun), 0.0));
+  vec2 texel = 1.0 / vec2(textureSize(sun_depth, 0));
+  float lit = 0.0;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      lit += p.z - bias > texture(sun_depth, p.xy + vec2(x, y) * texel).r ? 0.0 : 1.0;
+  return lit / 9.0;
+}
+void main() {
+  vec3 n = normalize(world_normal);
+  if (!gl_FrontFacing) n = -n;
+  vec3 base = colour;
+  if (grain > 0.5) {
+    float g = hash(floor(world_position.xy * 40.0)) * 0.6 + hash(floor(world_position.xy * 9.0)) * 0.4;
+    base *= 0.88 + 0.2 * g;
+  }
+  float sun = max(dot(n, to_sun), 0.0) * lit_by_sun(n);
+  float skylight = 0.5 + 0.5 * n.z;
+  vec3 c = base * (0.75 * sun * vec3(1.0, 0.96, 0.9) + 0.45 * skylight * sky);
+  float haze = 1.0 - exp(-0.004 * length(world_position - eye));
+  frag_colour = vec4(mix(c, sky, haze), 1.0);
+}
+)";
+
+const char* const kDepthVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position;
+uniform mat4 model;
+uniform mat4 sun_view_projection;
+void main() { gl_Position = sun_view_projection * model * vec4(position, 1.0); }
+)";
+
+const char* const kDepthFragmentShader = R"(#version 330 core
+void main() {}
+)";
+
+Eigen::Matrix4f look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
+  const Eigen::Vector3d f = (target - eye).normalized();
+  Eigen::Vector3d s = f.cross(up);
+  if (s.norm() < 1e-9) s = f.cross(Eigen::Vector3d::UnitY());
+  s.normalize();
+  const Eigen::Vector3d u = s.cross(f);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<1, 3>(0, 0) = s.transpose();
+  m.block<1, 3>(1, 0) = u.transpose();
+  m.block<1, 3>(2, 0) = -f.transpose();
+  m(0, 3) = -s.dot(eye);
+  m(1, 3) = -u.dot(eye);
+  m(2, 3) = f.dot(eye);
+  return m.cast<float>();
+}
+
+Eigen::Matrix4f perspective(double fov_y_deg, double aspect, double near_m, double far_m) {
+  const double t = 1.0 / std::tan(0.5 * fov_y_deg * kPi / 180.0);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (far_m + near_m) / (near_m - far_m);
+  m(2, 3) = 2.0 * far_m * near_m / (near_m - far_m);
+  m(3, 2) = -1.0;
+  return m.cast<float>();
+}
+
+Eigen::Matrix4f orthographic(const Eigen::AlignedBox3d& box) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  for (int k = 0; k < 3; ++k) {
+    m(k, k) = 2.0 / (box.max()[k] - box.min()[k]);
+    m(k, 3) = -(box.max()[k] + box.min()[k]) / (box.max()[k] - box.min()[k]);
+  }
+  return m.cast<float>();
+}
+
+// The sun's view: looking along its direction at the centre of the bounds,
+// an orthographic box around their corners.
+Eigen::Matrix4f sun_view_projection(const Scene& scene) {
+  const Eigen::Vector3d d = scene.sun_direction.normalized();
+  const Eigen::Vector3d centre = scene.shadow_bounds_m.center();
+  const double reach = scene.shadow_bounds_m.sizes().norm();
+  const Eigen::Matrix4f view = look_at(centre - reach * d, centre, std::abs(d.z()) > 0.99 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ());
+  Eigen::AlignedBox3d box;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector4f c = view * scene.shadow_bounds_m.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)).cast<float>().homogeneous();
+    box.extend(c.head<3>().cast<double>());
+  }
+  // View space looks down -z: near and far are the box's -max and -min z.
+  const Eigen::AlignedBox3d volume(Eigen::Vector3d(box.min().x(), box.min().y(), -box.max().z() - 1.0),
+                                   Eigen::Vector3d(box.max().x(), box.max().y(), -box.min().z() + 1.0));
+  Eigen::Matrix4f flip = Eigen::Matrix4f::Identity();
+  flip(2, 2) = -1.0f;
+  return orthographic(volume) * flip * view;
+}
+
+GLuint compile(const GlApi& gl, GLenum type, const char* source) {
+  const GLuint shader = gl.CreateShader(type);
+  gl.ShaderSource(shader, 1, &source, nullptr);
+  gl.CompileShader(shader);
+  GLint ok = 0;
+  gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("render: shader does not compile: ") + log);
+  }
+  return shader;
+}
+
+GLuint link(const GlApi& gl, const char* vertex, const char* fragment) {
+  const GLuint v = compile(gl, GL_VERTEX_SHADER, vertex), f = compile(gl, GL_FRAGMENT_SHADER, fragment);
+  const GLuint p = gl.CreateProgram();
+  gl.AttachShader(p, v);
+  gl.AttachShader(p, f);
+  gl.LinkProgram(p);
+  gl.DeleteShader(v);
+  gl.DeleteShader(f);
+  GLint ok = 0;
+  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("render: shaders do not link: ") + log);
+  }
+  return p;
+}
+
+}  // namespace
+
+// A mesh on the GPU: positions and normals interleaved, indices.
+struct GpuMesh {
+  GLuint vao = 0, vbo = 0, ibo = 0;
+  std::size_t vertices = 0, indices = 0;
+};
+
+struct Renderer::Gpu {
+  GLuint program = 0, depth_program = 0;
+  GLuint shadow_fbo = 0, shadow_texture = 0;
+  std::vector<GpuMesh> meshes;  // by Scene::meshes index
+  std::vector<GpuMesh> fields;  // by Scene::fields index
+  Mesh field_mesh;              // scratch
+  std::vector<float> interleaved;
+};
+
+namespace {
+
+void upload(const GlApi& gl, const Mesh& mesh, GpuMesh& g, std::vector<float>& interleaved) {
+  if (!g.vao) {
+    gl.GenVertexArrays(1, &g.vao);
+    gl.GenBuffers(1, &g.vbo);
+    gl.GenBuffers(1, &g.ibo);
+  }
+  interleaved.resize(mesh.positions_m.size() * 6);
+  for (std::size_t v = 0; v < mesh.positions_m.size(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      interleaved[6 * v + k] = mesh.positions_m[v][k];
+      interleaved[6 * v + 3 + k] = v < mesh.normals.size() ? mesh.normals[v][k] : (k == 2 ? 1.0f : 0.0f);
+    }
+  }
+  gl.BindVertexArray(g.vao);
+  gl.BindBuffer(GL_ARRAY_BUFFER, g.vbo);
+  gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)), interleaved.data(),
+                GL_DYNAMIC_DRAW);
+  gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);
+  gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
+                mesh.indices.data(), GL_DYNAMIC_DRAW);
+  gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+  gl.EnableVertexAttribArray(0);
+  gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+  gl.EnableVertexAttribArray(1);
+  g.vertices = mesh.positions_m.size();
+  g.indices = mesh.indices.size();
+}
+
+void release(const GlApi& gl, GpuMesh& g) {
+  if (!g.vao) return;
+  gl.DeleteVertexArrays(1, &g.vao);
+  gl.DeleteBuffers(1, &g.vbo);
+  gl.DeleteBuffers(1, &g.ibo);
+}
+
+void draw(const GlApi& gl, const GpuMesh& g) {
+  gl.BindVertexArray(g.vao);
+  gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.indices), GL_UNSIGNED_INT, nullptr);
+}
+
+Eigen::Matrix4f model_of(const Eigen::Matrix4d& pose) { return pose.cast<float>(); }
+
+}  // namespace
+
+Renderer::Renderer(OffscreenContext& context, int shadow_map_size)
+    : context_(context), shadow_size_(shadow_map_size), gpu_(std::make_unique<Gpu>()) {
+  context_.make_current();
+  const GlApi& gl = context_.gl();
+  gpu_->program = link(gl, kVertexShader, kFragmentShader);
+  gpu_->depth_program = link(gl, kDepthVertexShader, kDepthFragmentShader);
+  gl.GenTextures(1, &gpu_->shadow_texture);
+  gl.BindTexture(GL_TEXTURE_2D, gpu_->shadow_texture);
+  gl.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, shadow_size_, shadow_size_, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                nullptr);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl.GenFramebuffers(1, &gpu_->shadow_fbo);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, gpu_->shadow_fbo);
+  gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, gpu_->shadow_texture, 0);
+  gl.DrawBuffer(GL_NONE);
+  gl.ReadBuffer(GL_NONE);
+  if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("render: the shadow map's framebuffer is incomplete");
+  context_.make_current();  // back to the frame's framebuffer
+  check_gl(gl, "setting up the renderer");
+}
+
+Renderer::~Renderer() {
+  context_.make_current();
+  const GlApi& gl = context_.gl();
+  for (GpuMesh& g : gpu_->meshes) release(gl, g);
+  for (GpuMesh& g : gpu_->fields) release(gl, g);
+  gl.DeleteFramebuffers(1, &gpu_->shadow_fbo);
+  gl.DeleteTextures(1, &gpu_->shadow_texture);
+  gl.DeleteProgram(gpu_->program);
+  gl.DeleteProgram(gpu_->depth_program);
+}
+
+void Renderer::render(const Scene& scene, const Camera& camera) {
+  context_.make_current();
+  const GlApi& gl = context_.gl();
+  Gpu& g = *gpu_;
+  // Upload what is new or has changed size.
+  if (g.meshes.size() < scene.meshes.size()) g.meshes.resize(scene.meshes.size());
+  for (std::size_t k = 0; k < scene.meshes.size(); ++k)
+    if (g.meshes[k].vertices != scene.meshes[k].positions_m.size() || g.meshes[k].indices != scene.meshes[k].indices.size())
+      upload(gl, scene.meshes[k], g.meshes[k], g.interleaved);
+  if (g.fields.size() < scene.fields.size()) g.fields.resize(scene.fields.size());
+  for (std::size_t k = 0; k < scene.fields.size(); ++k) {
+    build_terrain_mesh(scene.fields[k], g.field_mesh);
+    upload(gl, g.field_mesh, g.fields[k], g.interleaved);
+  }
+  const auto draw_all = [&](GLint model_location, GLint colour_location, GLint grain_location) {
+    for (const MeshInstance& m : scene.instances) {
+      if (m.mesh < 0 || static_cast<std::size_t>(m.mesh) >= scene.meshes.size()) continue;
+      gl.UniformMatrix4fv(model_location, 1, GL_FALSE, model_of(m.pose.matrix()).data());
+      if (colour_location >= 0) gl.Uniform3fv(colour_location, 1, m.colour.data());
+      if (grain_location >= 0) gl.Uniform1f(grain_location, 0.0f);
+      draw(gl, g.meshes[static_cast<std::size_t>(m.mesh)]);
+    }
+    for (std::size_t k = 0; k < scene.fields.size(); ++k) {
+      const HeightField& f = scene.fields[k];
+      gl.UniformMatrix4fv(model_location, 1, GL_FALSE, model_of(f.pose.matrix()).data());
+      if (colour_location >= 0) gl.Uniform3fv(colour_location, 1, f.colour.data());
+      if (grain_location >= 0) gl.Uniform1f(grain_location, 1.0f);
+      draw(gl, g.fields[k]);
+    }
+  };
+  const Eigen::Matrix4f sun = sun_view_projection(scene);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LESS);
+  gl.Disable(GL_CULL_FACE);  // height fields and open meshes are seen from both sides
+  // 1. The sun's depth map.
+  gl.BindFramebuffer(GL_FRAMEBUFFER, g.shadow_fbo);
+  gl.Viewport(0, 0, shadow_size_, shadow_size_);
+  gl.Clear(GL_DEPTH_BUFFER_BIT);
+  gl.UseProgram(g.depth_program);
+  gl.UniformMatrix4fv(gl.GetUniformLocation(g.depth_program, "sun_view_projection"), 1, GL_FALSE, sun.data());
+  draw_all(gl.GetUniformLocation(g.depth_program, "model"), -1, -1);
+  // 2. The frame.
+  context_.make_current();
+  gl.Viewport(0, 0, context_.width(), context_.height());
+  gl.ClearColor(scene.sky.x(), scene.sky.y(), scene.sky.z(), 1.0f);
+  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl.UseProgram(g.program);
+  const Eigen::Matrix4f view_projection =
+      perspective(camera.fov_y_deg, static_cast<double>(context_.width()) / context_.height(), camera.near_m,
+                  camera.far_m) *
+      look_at(camera.eye_m, camera.target_m, camera.up);
+  gl.UniformMatrix4fv(gl.GetUniformLocation(g.program, "view_projection"), 1, GL_FALSE, view_projection.data());
+  gl.UniformMatrix4fv(gl.GetUniformLocation(g.program, "sun_view_projection"), 1, GL_FALSE, sun.data());
+  const Eigen::Vector3f to_sun = (-scene.sun_direction.normalized()).cast<float>();
+  gl.Uniform3fv(gl.GetUniformLocation(g.program, "to_sun"), 1, to_sun.data());
+  gl.Uniform3fv(gl.GetUniformLocation(g.program, "sky"), 1, scene.sky.data());
+  const Eigen::Vector3f eye = camera.eye_m.cast<float>();
+  gl.Uniform3fv(gl.GetUniformLocation(g.program, "eye"), 1, eye.data());
+  gl.ActiveTexture(GL_TEXTURE0);
+  gl.BindTexture(GL_TEXTURE_2D, g.shadow_texture);
+  gl.Uniform1i(gl.GetUniformLocation(g.program, "sun_depth"), 0);
+  draw_all(gl.GetUniformLocation(g.program, "model"), gl.GetUniformLocation(g.program, "colour"),
+           gl.GetUniformLocation(g.program, "grain"));
+  gl.Finish();
+  check_gl(gl, "rendering a frame");
+}
+
+std::vector<std::uint8_t> render_rgb(OffscreenContext& context, Renderer& renderer, const Scene& scene,
+                                     const Camera& camera) {
+  renderer.render(scene, camera);
+  std::vector<std::uint8_t> rgb;
+  context.read_rgb(rgb);
+  return rgb;
+}
+
+}  // namespace skidsim::render

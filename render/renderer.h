@@ -1,0 +1,40 @@
+// Draws a Scene from a Camera into an OffscreenContext: the sun's shadow map
+// first (a depth pass over the scene's shadow bounds), then the colour pass
+// (diffuse sun with its shadow, sky light from above, distance haze; sand
+// gets a grain pattern fixed to the world). OpenGL 3.3 core.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "render/offscreen_context.h"
+#include "render/scene.h"
+
+namespace skidsim::render {
+
+class Renderer {
+ public:
+  explicit Renderer(OffscreenContext& context, int shadow_map_size = 2048);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Renders the frame; read it with context.read_rgb. Meshes are uploaded
+  // the first time a Scene's mesh index is seen with that vertex count, and
+  // again when it changes; height fields are meshed every frame (the
+  // terrain's incremental update is the caller's, through terrain_mesh.h).
+  void render(const Scene& scene, const Camera& camera);
+
+ private:
+  struct Gpu;
+  OffscreenContext& context_;
+  int shadow_size_;
+  std::unique_ptr<Gpu> gpu_;
+};
+
+// Renders once and returns the RGB pixels (top row first).
+std::vector<std::uint8_t> render_rgb(OffscreenContext& context, Renderer& renderer, const Scene& scene,
+                                     const Camera& camera);
+
+}  // namespace skidsim::render

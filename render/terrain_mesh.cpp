@@ -1,0 +1,88 @@
+#include "render/terrain_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace skidsim::render {
+namespace {
+
+float height(const HeightField& f, int i, int j) {
+  i = std::clamp(i, 0, f.nx - 1);
+  j = std::clamp(j, 0, f.ny - 1);
+  return f.height_m[static_cast<std::size_t>(j) * f.nx + i];
+}
+
+bool shows(const HeightField& f, int i, int j) {
+  return f.shows.empty() || f.shows[static_cast<std::size_t>(j) * f.nx + i] != 0;
+}
+
+void set_vertex(const HeightField& f, int i, int j, Mesh& m) {
+  const std::size_t v = static_cast<std::size_t>(j) * f.nx + i;
+  const auto d = static_cast<float>(f.cell_m);
+  m.positions_m[v] = Eigen::Vector3f(d * i, d * j, height(f, i, j));
+  // Central differences (one-sided at the edges).
+  const float dx = (height(f, i + 1, j) - height(f, i - 1, j)) / (d * static_cast<float>(std::min(i + 1, f.nx - 1) - std::max(i - 1, 0)));
+  const float dy = (height(f, i, j + 1) - height(f, i, j - 1)) / (d * static_cast<float>(std::min(j + 1, f.ny - 1) - std::max(j - 1, 0)));
+  m.normals[v] = Eigen::Vector3f(-dx, -dy, 1.0f).normalized();
+}
+
+// The quads, in a fixed order (so a rebuilt index buffer is the same).
+void write_indices(const HeightField& f, Mesh& m) {
+  m.indices.clear();
+  for (int j = 0; j + 1 < f.ny; ++j)
+    for (int i = 0; i + 1 < f.nx; ++i) {
+      if (!(shows(f, i, j) || shows(f, i + 1, j) || shows(f, i, j + 1) || shows(f, i + 1, j + 1))) continue;
+      const auto v00 = static_cast<std::uint32_t>(j * f.nx + i), v10 = v00 + 1;
+      const auto v01 = v00 + static_cast<std::uint32_t>(f.nx), v11 = v01 + 1;
+      if (split_along_main_diagonal(height(f, i, j), height(f, i + 1, j), height(f, i, j + 1), height(f, i + 1, j + 1))) {
+        m.indices.insert(m.indices.end(), {v00, v10, v11, v00, v11, v01});
+      } else {
+        m.indices.insert(m.indices.end(), {v00, v10, v01, v10, v11, v01});
+      }
+    }
+}
+
+}  // namespace
+
+bool split_along_main_diagonal(float h00, float h10, float h01, float h11) {
+  return std::abs(h00 - h11) <= std::abs(h10 - h01);
+}
+
+void build_terrain_mesh(const HeightField& f, Mesh& m) {
+  const auto n = static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny);
+  m.positions_m.resize(n);
+  m.normals.resize(n);
+  for (int j = 0; j < f.ny; ++j)
+    for (int i = 0; i < f.nx; ++i) set_vertex(f, i, j, m);
+  write_indices(f, m);
+}
+
+bool update_terrain_mesh(const HeightField& f, int i0, int j0, int i1, int j1, Mesh& m) {
+  i0 = std::max(0, i0 - 1);
+  j0 = std::max(0, j0 - 1);
+  i1 = std::min(f.nx, i1 + 1);
+  j1 = std::min(f.ny, j1 + 1);
+  for (int j = j0; j < j1; ++j)
+    for (int i = i0; i < i1; ++i) set_vertex(f, i, j, m);
+  // Did a quad in the region change its diagonal? Compare with the index
+  // buffer (each shown quad is 6 indices, in write_indices' order).
+  bool flipped = false;
+  std::size_t q = 0;
+  for (int j = 0; j + 1 < f.ny && !flipped; ++j)
+    for (int i = 0; i + 1 < f.nx; ++i) {
+      if (!(shows(f, i, j) || shows(f, i + 1, j) || shows(f, i, j + 1) || shows(f, i + 1, j + 1))) continue;
+      if (j >= j0 - 1 && j < j1 && i >= i0 - 1 && i < i1) {
+        const bool main = m.indices[q + 2] == static_cast<std::uint32_t>((j + 1) * f.nx + i + 1);
+        if (main != split_along_main_diagonal(height(f, i, j), height(f, i + 1, j), height(f, i, j + 1),
+                                              height(f, i + 1, j + 1))) {
+          flipped = true;
+          break;
+        }
+      }
+      q += 6;
+    }
+  if (flipped) write_indices(f, m);
+  return flipped;
+}
+
+}  // namespace skidsim::render

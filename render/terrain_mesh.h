@@ -1,0 +1,26 @@
+// A height field as triangles (thesis 8.1): one vertex per cell, normals
+// from the neighbouring heights, and each quad split along the diagonal
+// that follows the surface (8.1.2): splitting every quad the same way saws
+// the crests that run across that diagonal.
+#pragma once
+
+#include "render/scene.h"
+
+namespace skidsim::render {
+
+// The diagonal of quad (i, j)-(i+1, j+1): true to split it along
+// (i, j)-(i+1, j+1), whose corners differ less in height than the other
+// pair's (a crest or a valley joins similar heights along itself).
+bool split_along_main_diagonal(float h00, float h10, float h01, float h11);
+
+// The whole mesh of a field, in the field's frame.
+void build_terrain_mesh(const HeightField& field, Mesh& mesh);
+
+// Updates the vertices of cells [i0, i1) x [j0, j1) (and the normals of
+// their neighbours) and the diagonals of the quads they touch, after those
+// heights changed; the mesh must have been built from a field of the same
+// size and mask. Returns whether any quad's diagonal flipped (the index
+// buffer then changed too).
+bool update_terrain_mesh(const HeightField& field, int i0, int j0, int i1, int j1, Mesh& mesh);
+
+}  // namespace skidsim::render
