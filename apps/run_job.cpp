@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -26,6 +27,11 @@
 
 namespace skidsim::apps {
 namespace {
+
+// Ctrl-C or SIGTERM ends a session at the next control tick, with its report
+// and log written (end_reason "interrupted"), instead of losing it.
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
 using nlohmann::json;
 
@@ -89,12 +95,18 @@ int run_session(const RunJob& job) {
   // A replay: the controls a recorded session applied, by control tick.
   std::vector<vehicle::LoaderControls> replay;
   const bool replaying = !job.replay_path.empty();
+  long replay_end_step = -1;  // from the recording's "end" event (-1: run its controls out)
   if (replaying) {
     lcm::LogFile recorded(job.replay_path, "r");
     if (!recorded.good()) throw io::InputError(job.replay_path + ": cannot read the LCM log");
     off_t last_good_end = 0;
     while (const lcm::LogEvent* e = recorded.readNextEvent()) {
       last_good_end = ftello(recorded.getFilePtr());
+      if (e->channel == "SKIDSIM_EVENTS") {  // the session's end: the step it stopped at
+        skidsim_lcm::event_t end{};
+        if (end.decode(e->data, 0, e->datalen) >= 0 && end.kind == "end") replay_end_step = end.step;
+        continue;
+      }
       if (e->channel != ex.operator_source.channel + "_APPLIED") continue;
       skidsim_lcm::control_t m{};
       if (m.decode(e->data, 0, e->datalen) < 0 || m.sim_step < 0 || m.sim_step % kStepsPerTick != 0)
@@ -153,6 +165,7 @@ int run_session(const RunJob& job) {
   if ((!player && !replaying) || !job.lcm_url.empty()) bridge = std::make_unique<io::LcmBridge>(url, channels, &input);
 
   auto world = build_session_world(ex, loader, soils);
+  check_tasks(ex, *world);
   SessionTasks tasks(ex, *world);
   StagedRunDirectory run_dir(job.out_dir);
   const std::string log_path = (run_dir.staging() / "session.lcmlog").string();
@@ -172,6 +185,19 @@ int run_session(const RunJob& job) {
       if (bridge) bridge->publish_terrain_tile(m);
     });
   };
+  // Events to the log and, with a provider, over LCM.
+  const auto send_events = [&](long step, double t) {
+    for (const SessionEvent& e : tasks.take_events()) {
+      skidsim_lcm::event_t m{};
+      m.step = step;
+      m.sim_time_s = e.time_s;
+      m.kind = e.kind;
+      m.severity = static_cast<std::int8_t>(e.severity);
+      m.text = e.text;
+      log_message(log, channels.events, m, t);
+      if (bridge) bridge->publish_event(m);
+    }
+  };
   const double limit_s = job.max_s > 0.0 ? job.max_s : ex.time_limit_s;
   Progress progress("run", limit_s);
   vehicle::LoaderControls controls;
@@ -181,6 +207,9 @@ int run_session(const RunJob& job) {
   std::int64_t watchdog_trips_seen = 0;
   std::string end_reason = "time_limit";
   const auto wall_start = std::chrono::steady_clock::now();
+  g_interrupted = 0;
+  const auto previous_int = std::signal(SIGINT, on_interrupt);
+  const auto previous_term = std::signal(SIGTERM, on_interrupt);
   // The report's plots over time (columnar, reserved: no reallocation in the loop).
   const char* const kSeries[] = {"t_s", "chassis_x_m", "chassis_y_m", "speed_m_s", "bucket_payload_kg",
                                  "material_moved_kg", "task_progress", "score", "engine_speed_rpm",
@@ -193,7 +222,15 @@ int run_session(const RunJob& job) {
   while (world->time_s() < limit_s) {
     const long step = world->steps();
     const double t = world->time_s();
+    if (replaying && replay_end_step >= 0 && step >= replay_end_step) {
+      end_reason = "replay_done";
+      break;
+    }
     if (step % kStepsPerTick == 0) {
+      if (g_interrupted) {
+        end_reason = "interrupted";
+        break;
+      }
       skidsim_lcm::state_t state = machine_state(*world, !player && input.neutral());
       state.score = tasks.score();
       state.active_task = tasks.active_task();
@@ -209,7 +246,7 @@ int run_session(const RunJob& job) {
       } else if (mode == "lockstep") {
         // The operator gets this tick's state first and answers with the
         // command stamped for it; the simulator waits for it (up to the
-        // watchdog; the first one, while the operator starts, up to 10 s,
+        // watchdog; the first one, while the operator starts, up to 5 s,
         // the state sent again every 100 ms).
         bridge->publish_state(state);
         const bool first = step == 0;
@@ -256,16 +293,7 @@ int run_session(const RunJob& job) {
         watchdog_trips_seen = input.stats().watchdog_trips;
         tasks.add_event(t, "watchdog", "no command from the operator: levers to neutral, parking brake on", 1);
       }
-      for (const SessionEvent& e : tasks.take_events()) {
-        skidsim_lcm::event_t m{};
-        m.step = step;
-        m.sim_time_s = e.time_s;
-        m.kind = e.kind;
-        m.severity = static_cast<std::int8_t>(e.severity);
-        m.text = e.text;
-        log_message(log, channels.events, m, t);
-        if (bridge) bridge->publish_event(m);
-      }
+      send_events(step, t);
       if (tiles && step % kStepsPerTiles == 0) send_tiles(step, t);
       if (step % kStepsPerSample == 0) {
         double progress_now = 0.0, worst_slip = 0.0;
@@ -311,8 +339,14 @@ int run_session(const RunJob& job) {
     }
     progress.update(world->time_s(), tasks.tasks().empty() ? "" : tasks.tasks().front().detail);
   }
+  std::signal(SIGINT, previous_int);
+  std::signal(SIGTERM, previous_term);
   progress.finish();
   if (tiles) send_tiles(world->steps(), world->time_s());
+  // The end, at the step the world stopped at: a replay stops there too.
+  tasks.finish(*world);
+  tasks.add_event(world->time_s(), "end", "session ended: " + end_reason, 0);
+  send_events(world->steps(), world->time_s());
   const double wall_s = progress.wall_seconds(), sim_s = world->time_s();
 
   json task_list = json::array();
@@ -364,7 +398,7 @@ int run_session(const RunJob& job) {
   log_file.reset();  // closed (flushed) before the run directory is committed
   if (world->terrain())
     io::write_heightmap((run_dir.staging() / "terrain_surface").string(), terrain_snapshot(*world->terrain(), "surface"));
-  io::write_text_atomically((run_dir.staging() / "report.json").string(), report.dump(2) + "\n");
+  io::write_text_atomically((run_dir.staging() / "report.json").string(), report.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
   io::write_text_atomically((run_dir.staging() / "report.html").string(), render_report_html(report));
   run_dir.commit();
   std::cout << "session '" << ex.name << "' (" << mode << "): " << (tasks.passed() ? "passed" : "not passed")

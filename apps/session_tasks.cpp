@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "io/atomic_file.h"
+
 namespace skidsim::apps {
 namespace {
 
@@ -15,9 +17,33 @@ const io::Zone* find_zone(const io::Exercise& ex, const std::string& id) {
 
 constexpr double kTippingHoldS = 0.25;
 constexpr double kTippingRearmS = 0.5;
+constexpr double kSampleS = 0.2;   // the bucket's load is looked at this often
+constexpr double kSettleS = 2.0;   // after leaving the cut, before its load counts as carried
 constexpr double kImpactMps2 = 40.0;  // about 4 g; the shipped scripts peak at 16-24
 
 }  // namespace
+
+void check_tasks(const io::Exercise& ex, const engine::World& world) {
+  SessionTasks tasks(ex, world);
+  const auto where = [&](const io::Task& t) {
+    return ex.path + ":" + std::to_string(t.line) + ": <task id=\"" + t.id + "\"> ";
+  };
+  for (std::size_t k = 0; k < ex.tasks.size(); ++k) {
+    const io::Task& t = ex.tasks[k];
+    const bool on_soil = t.type == io::Task::Type::kGrade || t.type == io::Task::Type::kMoveMaterial ||
+                         t.type == io::Task::Type::kBackfill;
+    if (on_soil) {
+      const io::Zone* z = find_zone(ex, t.to);
+      const Eigen::AlignedBox2i c = z ? tasks.zone_cells(world, *z) : Eigen::AlignedBox2i();
+      if (!world.terrain() || !z || (c.max() - c.min()).minCoeff() < 1)
+        throw io::InputError(where(t) + "its zone '" + t.to + "' covers no cell of a <soil>: it could never be done");
+    }
+  }
+  tasks.update(world, 0.01);
+  for (std::size_t k = 0; k < ex.tasks.size(); ++k)
+    if (tasks.tasks()[k].done)
+      throw io::InputError(where(ex.tasks[k]) + "is already done at the start (" + tasks.tasks()[k].detail + ")");
+}
 
 bool Metrics::measured(const std::string& name) {
   static const char* const kMeasured[] = {"completion_time_s", "material_moved_kg", "tasks_done",
@@ -87,6 +113,45 @@ double SessionTasks::zone_material_kg(const engine::World& w, const std::string&
   for (int j = c.min().y(); j < c.max().y(); ++j)
     for (int i = c.min().x(); i < c.max().x(); ++i) kg += g->material_mass_kg(i, j);
   return kg;
+}
+
+void SessionTasks::sample_bucket(const engine::World& w, double t) {
+  const vehicle::Loader& l = w.loader();
+  const double bucket_kg = w.bucket_material() ? w.bucket_material()->material_mass_kg() : 0.0;
+  // Material leaves over the lip: the middle of the container's front edge.
+  Eigen::Vector3d lip_m = l.link_pose(static_cast<int>(l.description().links.size()) - 1).translation();
+  if (const terrain::BodyAutomaton* b = w.bucket_material())
+    lip_m = b->pose() * Eigen::Vector3d(b->shape().length_m, 0.5 * b->shape().width_m, 0.0);
+  const bool out_of_cut = lip_m.z() - ground_height_m(w, lip_m.head<2>()) > 0.3;
+  const double lost = std::max(0.0, last_bucket_kg_ - bucket_kg);
+  last_bucket_kg_ = bucket_kg;
+  out_of_cut_s_ = out_of_cut ? out_of_cut_s_ + kSampleS : 0.0;
+  if (out_of_cut_s_ < kSettleS - 1e-9) return;  // in the cut, or lifting out of it
+  if (pass_load_kg_ == 0.0 || out_of_cut_s_ < kSettleS + 0.5 * kSampleS) {
+    // Just settled: this is what the pass carries.
+    if (bucket_kg >= 50.0 && (pass_load_kg_ == 0.0 || bucket_kg > pass_load_kg_)) pass_load_kg_ = bucket_kg;
+    return;
+  }
+  if (lost > 0.0 && !over_target(lip_m.head<2>())) metrics_.spillage_kg += lost;
+  emptied_s_ = bucket_kg < pass_load_kg_ / 3.0 ? emptied_s_ + kSampleS : 0.0;
+  if (emptied_s_ >= 0.4 - 1e-9) end_pass(t);
+}
+
+void SessionTasks::end_pass(double t) {
+  ++metrics_.passes;
+  passes_kg_ += pass_load_kg_;
+  metrics_.bucket_fill_per_pass = passes_kg_ / metrics_.passes;
+  emit(t, "pass", "pass " + std::to_string(metrics_.passes) + ": " + std::to_string(std::lround(pass_load_kg_)) +
+                      " kg carried");
+  pass_load_kg_ = 0.0;
+  emptied_s_ = 0.0;
+}
+
+void SessionTasks::finish(const engine::World& w) {
+  // A pass whose dump had begun when the session ended (its task done
+  // mid-dump) counts.
+  const double bucket_kg = w.bucket_material() ? w.bucket_material()->material_mass_kg() : 0.0;
+  if (pass_load_kg_ >= 50.0 && bucket_kg < 0.9 * pass_load_kg_) end_pass(w.time_s());
 }
 
 double SessionTasks::ground_height_m(const engine::World& w, const Eigen::Vector2d& xy) const {
@@ -201,7 +266,10 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   }
   metrics_.material_moved_kg = moved;
   metrics_.tasks_done = static_cast<double>(std::count_if(tasks_.begin(), tasks_.end(), [](const TaskProgress& p) { return p.done; }));
-  if (all_done() && metrics_.completion_time_s == 0.0) metrics_.completion_time_s = t;
+  // The time taken: when the last task was done, else the time so far (an
+  // unfinished session must not score as if it had taken none).
+  if (!done_) metrics_.completion_time_s = t;
+  done_ = all_done();
   // Handling metrics.
   const vehicle::Loader& l = w.loader();
   double rear = 0.0, total = 0.0, worst_slip = 0.0;
@@ -257,39 +325,19 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   if (touching) touching_ = true;
   if (touching_ && apart_s_ >= 0.5) touching_ = false;
   metrics_.engine_energy_MJ += l.engine_output_power_W() * dt_s * 1e-6;
-  const double work_s = metrics_.completion_time_s > 0.0 ? metrics_.completion_time_s : t;
+  const double work_s = metrics_.completion_time_s;
   metrics_.material_rate_kg_h = work_s > 0.0 ? moved * 3600.0 / work_s : 0.0;
   // Passes and spillage from the bucket's load, looked at every 0.2 s (the
-  // load swings from step to step while the edge cuts). A pass ends when a
-  // load of at least 50 kg has stayed under a third of its peak for 0.4 s;
-  // its fill is that peak.
-  // Load lost while the bucket is carried (0.3 m or more over the ground)
-  // and not over a target is spilt.
+  // load swings from step to step while the edge cuts). A pass's load is
+  // what the bucket holds kSettleS after its lip has come out of the cut
+  // (0.3 m over the ground): the heap above the bucket's capacity slides off
+  // as it lifts out, onto the source, and is neither carried nor spilt. Load
+  // lost after that, with the lip away from the targets, is spilt. The pass
+  // ends when the bucket has stayed under a third of that load for 0.4 s.
   bucket_sample_s_ += dt_s;
-  if (bucket_sample_s_ >= 0.2 - 1e-9) {
+  if (bucket_sample_s_ >= kSampleS - 1e-9) {
     bucket_sample_s_ = 0.0;
-    const double bucket_kg = w.bucket_material() ? w.bucket_material()->material_mass_kg() : 0.0;
-    // Material leaves over the lip: the middle of the container's front edge.
-    Eigen::Vector3d lip_m = l.link_pose(static_cast<int>(l.description().links.size()) - 1).translation();
-    if (const terrain::BodyAutomaton* b = w.bucket_material())
-      lip_m = b->pose() * Eigen::Vector3d(b->shape().length_m, 0.5 * b->shape().width_m, 0.0);
-    const double lost = std::max(0.0, last_bucket_kg_ - bucket_kg);
-    last_bucket_kg_ = bucket_kg;
-    if (lost > 0.0 && lip_m.z() - ground_height_m(w, lip_m.head<2>()) > 0.3 && !over_target(lip_m.head<2>()))
-      metrics_.spillage_kg += lost;
-    // The peak follows the load only while it grows (filling), so that what
-    // is still coming out after a pass was counted cannot make another.
-    if (lost == 0.0) pass_peak_kg_ = std::max(pass_peak_kg_, bucket_kg);
-    emptied_s_ = (pass_peak_kg_ >= 50.0 && bucket_kg < pass_peak_kg_ / 3.0) ? emptied_s_ + 0.2 : 0.0;
-    if (emptied_s_ >= 0.4 - 1e-9) {
-      ++metrics_.passes;
-      passes_kg_ += pass_peak_kg_;
-      metrics_.bucket_fill_per_pass = passes_kg_ / metrics_.passes;
-      emit(t, "pass", "pass " + std::to_string(metrics_.passes) + ": " + std::to_string(std::lround(pass_peak_kg_)) +
-                          " kg in the bucket");
-      pass_peak_kg_ = 0.0;
-      emptied_s_ = 0.0;
-    }
+    sample_bucket(w, t);
   }
   const Eigen::AlignedBox2d site(Eigen::Vector2d::Zero(), exercise_.site_size_m);
   if (!site.contains(xy)) metrics_.left_work_area_s += dt_s;

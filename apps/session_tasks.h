@@ -39,13 +39,18 @@ struct Metrics {
   double peak_bucket_acceleration_m_s2 = 0.0;  // the hardest, over a 10 ms tick
   double collisions = 0.0;             // times the machine came into contact with an obstacle or truck
   double material_rate_kg_h = 0.0;     // material moved over the time taken
-  double spillage_kg = 0.0;            // lost from the raised bucket away from the targets
-  double bucket_fill_per_pass = 0.0;   // kg: the mean load of the passes (a pass ends when the bucket is emptied)
+  double spillage_kg = 0.0;            // lost from the carried load away from the targets
+  double bucket_fill_per_pass = 0.0;   // kg: the mean load carried per pass (a pass ends when the bucket is emptied)
   double engine_energy_MJ = 0.0;       // the engine's output, integrated per control tick
   int passes = 0;
   double value(const std::string& name) const;  // 0 for a metric not measured yet
   static bool measured(const std::string& name);
 };
+
+// Refuses (io::InputError naming the file, the task's line and id) a task
+// that the world as built makes meaningless: one already done at the start,
+// or one whose zone covers no cell of the soil it is measured on.
+void check_tasks(const io::Exercise& exercise, const engine::World& world);
 
 class SessionTasks {
  public:
@@ -66,12 +71,17 @@ class SessionTasks {
   // Sum of weight x metric over the exercise's <scoring>; pass when every
   // task is done and the score reaches pass_score.
   double score() const;
+  // The grid cells a zone covers: [i0, i1) x [j0, j1) (empty off the grid).
+  Eigen::AlignedBox2i zone_cells(const engine::World& w, const io::Zone& zone) const;
+  // At the session's end: counts a pass whose dump had begun.
+  void finish(const engine::World& world);
   bool passed() const { return all_done() && score() >= exercise_.scoring.pass_score; }
 
  private:
   double zone_material_kg(const engine::World& w, const std::string& zone) const;
-  // The grid cells a zone covers: [i0, i1) x [j0, j1) (empty off the grid).
-  Eigen::AlignedBox2i zone_cells(const engine::World& w, const io::Zone& zone) const;
+
+  void sample_bucket(const engine::World& w, double t);
+  void end_pass(double t);
   double ground_height_m(const engine::World& w, const Eigen::Vector2d& xy) const;  // soil surface, else 0
   bool over_target(const Eigen::Vector2d& xy) const;  // over a move/backfill zone or a loaded truck's bed
   void emit(double t, const std::string& kind, const std::string& text, int severity = 0);
@@ -88,7 +98,9 @@ class SessionTasks {
   Metrics metrics_;
   bool tipping_ = false;
   double last_bucket_kg_ = 0.0, left_bucket_kg_ = 0.0;  // spillage: all that has left the bucket
-  double pass_peak_kg_ = 0.0, passes_kg_ = 0.0;
+  double pass_load_kg_ = 0.0, passes_kg_ = 0.0;  // this pass's carried load; all passes'
+  double out_of_cut_s_ = 0.0;                      // how long the lip has been out of the cut
+  bool done_ = false;
   double bucket_sample_s_ = 0.0, emptied_s_ = 0.0;
   bool touching_ = false;
   Eigen::Vector3d bucket_velocity_ = Eigen::Vector3d::Zero();

@@ -16,6 +16,7 @@
 #include "apps/operator_job.h"
 #include "apps/render_job.h"
 #include "apps/run_job.h"
+#include "apps/session_tasks.h"
 #include "apps/session_world.h"
 #include "io/operator_script.h"
 #include "io/atomic_file.h"
@@ -78,7 +79,7 @@ int check_loader(const std::string& path, bool json) {
   j["top_speed_km_h"] = f.top_speed_km_h;
   j["push_force_kN"] = f.push_force_kN;
   if (json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     return 0;
   }
   std::cout << "loader " << path << ": valid\n";
@@ -95,7 +96,9 @@ int check_exercise(const std::string& path, bool json) {
   if (e.operator_source.kind == skidsim::io::OperatorSource::Kind::kScript)
     skidsim::io::load_operator_script(e.operator_source.script);
   // What the session would build, built once (refusals name the file).
-  skidsim::apps::build_session_world(e, loader, skidsim::io::load_soil_table(skidsim::io::default_soil_table_path()));
+  const auto world =
+      skidsim::apps::build_session_world(e, loader, skidsim::io::load_soil_table(skidsim::io::default_soil_table_path()));
+  skidsim::apps::check_tasks(e, *world);
   nlohmann::json j;
   j["exercise"] = e.name;
   j["file"] = path;
@@ -123,7 +126,7 @@ int check_exercise(const std::string& path, bool json) {
   j["events"] = e.events.size();
   j["metrics"] = e.scoring.metrics.size();
   if (json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     return 0;
   }
   std::cout << "exercise " << path << ": valid\n";

@@ -213,6 +213,7 @@ struct Reader {
   void read_task(const tinyxml2::XMLElement* e) {
     AttributeReader a(path, e);
     Task t;
+    t.line = e->GetLineNum();
     t.id = a.text("id", true);
     unique_id(a, t.id);
     const std::string type = a.text("type", true);

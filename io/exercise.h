@@ -77,6 +77,7 @@ struct OperatorSource {
 struct Task {
   enum class Type { kDriveCourse, kMoveMaterial, kLoadTruck, kGrade, kBackfill, kClimb } type = Type::kDriveCourse;
   std::string id;
+  int line = 0;               // in the exercise file, for messages
   double time_limit_s = 0.0;  // 0: the exercise's
   // drive_course: the gates, in order (each a region to pass through).
   std::vector<Region> gates;

@@ -182,6 +182,9 @@ TEST(SkidsimRun, DrivingIntoAConeIsACollision) {
   EXPECT_GE(report["metrics"]["bucket_impacts"].get<double>(), 1.0);
   EXPECT_EQ(impacts, report["metrics"]["bucket_impacts"].get<int>());
   EXPECT_GT(report["peak_bucket_acceleration_m_s2"].get<double>(), 40.0);
+  // Not done: the time taken is the whole session, not none.
+  EXPECT_FALSE(report["result"]["all_tasks_done"].get<bool>());
+  EXPECT_NEAR(report["metrics"]["completion_time_s"].get<double>(), report["performance"]["simulated_s"].get<double>(), 0.011);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, ShippedScenario,
@@ -233,6 +236,58 @@ TEST(SkidsimRun, TerrainTilesInTheLogRebuildTheFinalSurface) {
   std::printf("[ measured ] %d tiles at the start, %d changed ones after; rebuilt within %.2g m\n", tiles - later, later, worst);
   // Float heights, changes under 1 mm not resent, the PNG's quantisation.
   EXPECT_LT(worst, 0.0011);
+}
+
+// A session that ended before its time (its tasks done): the replay stops
+// at the same step (the log's "end" event) and reaches the same state.
+TEST(SkidsimRun, ReplayOfASessionEndedByItsTasksStopsWhereItStopped) {
+  const fs::path rec = fs::temp_directory_path() / "skidsim_run_course_recorded";
+  const fs::path rep = fs::temp_directory_path() / "skidsim_run_course_replayed";
+  fs::remove_all(rec);
+  fs::remove_all(rep);
+  const std::string src = SKIDSIM_SOURCE_DIR;
+  const std::string course = src + "/scenarios/driving_course.xml";
+  ASSERT_EQ(run_skidsim("run " + course + " --script " + src + "/scenarios/driving_course.operator.xml --out " + rec.string()).exit_code, 0);
+  const auto r = run_skidsim("run " + course + " --replay " + (rec / "session.lcmlog").string() + " --out " + rep.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json a = nlohmann::json::parse(std::ifstream(rec / "report.json"));
+  const nlohmann::json b = nlohmann::json::parse(std::ifstream(rep / "report.json"));
+  EXPECT_EQ(a["end_reason"], "tasks_done");
+  EXPECT_EQ(a["final_state_hash"], b["final_state_hash"]);
+  EXPECT_EQ(a["performance"]["simulated_s"], b["performance"]["simulated_s"]);
+}
+
+// An exercise whose task is already done where the machine starts is refused
+// by check and by run, naming the task's line.
+TEST(SkidsimRun, ATaskDoneAtTheStartIsRefused) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_done_at_start";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ifstream in(std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/soft_slope_climb.xml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("position=\"4 6\""), 14, "position=\"17 6\"");
+  std::ofstream(dir / "climb.xml") << text;
+  for (const std::string cmd : {"check ", "run "}) {
+    const auto r = run_skidsim(cmd + (dir / "climb.xml").string() + (cmd == "run " ? " --mode fast --script " + std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/soft_slope_climb.operator.xml --out " + (dir / "run").string() : ""));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("climb.xml:16: <task id=\"climb\"> is already done at the start"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "run"));
+}
+
+// Ctrl-C mid-session: the session ends at the next tick and its report and
+// log are written, saying why.
+TEST(SkidsimRun, AnInterruptedSessionKeepsWhatItRecorded) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_interrupted";
+  fs::remove_all(dir);
+  const std::string cmd = "sh -c '" + std::string(SKIDSIM_BINARY) + " run " + kScenario + " --script " + kScript +
+                          " --mode realtime --out " + dir.string() + " > /dev/null 2>&1 & pid=$!; sleep 2; kill -INT $pid; wait $pid'";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+  EXPECT_EQ(report["end_reason"], "interrupted");
+  EXPECT_GT(report["performance"]["simulated_s"].get<double>(), 0.5);
+  EXPECT_LT(report["performance"]["simulated_s"].get<double>(), 10.0);
+  EXPECT_TRUE(fs::exists(dir / "session.lcmlog"));
 }
 
 TEST(SkidsimRun, SameScriptTwiceGivesTheSameFinalState) {
