@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <vector>
@@ -13,10 +14,12 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "apps/frame_recorder.h"
 #include "apps/operator_player.h"
 #include "apps/progress.h"
 #include "apps/report_html.h"
 #include "apps/run_directory.h"
+#include "apps/scene_snapshot.h"
 #include "apps/session_tasks.h"
 #include "apps/session_world.h"
 #include "apps/terrain_tiles.h"
@@ -80,6 +83,16 @@ void log_message(lcm::LogFile& log, const std::string& channel, const Message& m
   e.datalen = size;
   e.data = buffer.data();
   log.writeEvent(&e);
+}
+
+// frames/*.png -> session.mp4 with ffmpeg, when it is on the PATH; returns
+// the video's name, or "" (no ffmpeg, or it failed: the frames remain).
+std::string encode_video(const std::filesystem::path& dir, double fps) {
+  if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) return "";
+  const std::string cmd = "ffmpeg -loglevel error -y -framerate " + std::to_string(fps) + " -i '" +
+                          (dir / "frames" / "frame_%06d.png").string() + "' -pix_fmt yuv420p -vf 'scale=trunc(iw/2)*2:trunc(ih/2)*2' '" +
+                          (dir / "session.mp4").string() + "' < /dev/null";
+  return std::system(cmd.c_str()) == 0 ? "session.mp4" : "";
 }
 
 }  // namespace
@@ -198,6 +211,27 @@ int run_session(const RunJob& job) {
       if (bridge) bridge->publish_event(m);
     }
   };
+  // Recording: a snapshot of the scene at each frame's time, handed to the
+  // recorder's thread.
+  std::unique_ptr<FrameRecorder> recorder;
+  render::Scene scene;
+  const std::string camera_name = job.camera.empty() ? ex.recording.camera : job.camera;
+  double next_frame_s = 0.0;
+  if (job.record) {
+    const int fw = job.frame_width > 0 ? job.frame_width : ex.recording.width;
+    const int fh = job.frame_height > 0 ? job.frame_height : ex.recording.height;
+    if (fw < 16 || fh < 16 || fw > 8192 || fh > 8192) throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
+    if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")
+      throw io::InputError("--render-backend '" + job.render_backend + "': expected auto, egl or osmesa");
+    try {
+      (void)exercise_camera(camera_name, ex, *world);
+    } catch (const std::invalid_argument& e) {
+      throw io::InputError(std::string("--camera: ") + e.what());
+    }
+    std::filesystem::create_directories(run_dir.staging() / "frames");
+    scene = static_scene(ex, *world);
+    recorder = std::make_unique<FrameRecorder>((run_dir.staging() / "frames").string(), fw, fh, job.render_backend);
+  }
   const double limit_s = job.max_s > 0.0 ? job.max_s : ex.time_limit_s;
   Progress progress("run", limit_s);
   vehicle::LoaderControls controls;
@@ -295,6 +329,11 @@ int run_session(const RunJob& job) {
       }
       send_events(step, t);
       if (tiles && step % kStepsPerTiles == 0) send_tiles(step, t);
+      if (recorder && t >= next_frame_s - 1e-9) {
+        update_scene(*world, scene);
+        recorder->submit(scene, exercise_camera(camera_name, ex, *world));
+        next_frame_s += 1.0 / ex.recording.fps;
+      }
       if (step % kStepsPerSample == 0) {
         double progress_now = 0.0, worst_slip = 0.0;
         for (const TaskProgress& p : tasks.tasks())
@@ -343,6 +382,12 @@ int run_session(const RunJob& job) {
   std::signal(SIGTERM, previous_term);
   progress.finish();
   if (tiles) send_tiles(world->steps(), world->time_s());
+  json recording = nullptr;
+  if (recorder) {
+    recorder->finish();
+    recording = {{"frames", recorder->frames_written()}, {"fps", ex.recording.fps}, {"camera", camera_name},
+                 {"dir", "frames"}, {"renderer", recorder->renderer()}, {"video", encode_video(run_dir.staging(), ex.recording.fps)}};
+  }
   // The end, at the step the world stopped at: a replay stops there too.
   tasks.finish(*world);
   tasks.add_event(world->time_s(), "end", "session ended: " + end_reason, 0);
@@ -361,6 +406,12 @@ int run_session(const RunJob& job) {
       not_measured.push_back(name);
     }
   }
+  // The score, term by term: weight x value of each scoring metric.
+  json breakdown = json::array();
+  for (const io::Metric& m : ex.scoring.metrics) {
+    const double value = tasks.metrics().value(m.name);
+    breakdown.push_back({{"metric", m.name}, {"weight", m.weight}, {"value", value}, {"points", m.weight * value}});
+  }
   json events = json::array();
   for (const SessionEvent& e : tasks.all_events())
     events.push_back({{"time_s", e.time_s}, {"kind", e.kind}, {"severity", e.severity}, {"text", e.text}});
@@ -370,13 +421,13 @@ int run_session(const RunJob& job) {
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(state_hash(*world)));
   const io::ControlStats& cs = input.stats();
   const json report = {
-      {"exercise", {{"name", ex.name}, {"file", ex.path}}},
+      {"exercise", {{"name", ex.name}, {"file", ex.path}, {"absolute_path", std::filesystem::absolute(ex.path).lexically_normal().string()}}},
       {"mode", mode},
       {"operator", replaying ? "replay " + job.replay_path
                    : player  ? "script " + script_path
                              : "lcm " + url + " channel " + channels.control},
       {"result", {{"passed", tasks.passed()}, {"score", tasks.score()}, {"pass_score", ex.scoring.pass_score},
-                  {"all_tasks_done", tasks.all_done()}, {"tasks", task_list},
+                  {"all_tasks_done", tasks.all_done()}, {"tasks", task_list}, {"score_breakdown", breakdown},
                   {"script_phases_timed_out", player ? json(player->timed_out()) : json::array()}}},
       {"metrics", metrics},
       {"metrics_not_measured_yet", not_measured},
@@ -384,6 +435,7 @@ int run_session(const RunJob& job) {
       {"peak_bucket_acceleration_m_s2", tasks.metrics().peak_bucket_acceleration_m_s2},
       {"events", events},
       {"timeline", timeline_json},
+      {"recording", recording},
       {"controls", {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},
                     {"rejected_stale", cs.rejected_stale}, {"malformed", cs.malformed},
                     {"watchdog_trips", cs.watchdog_trips}}},

@@ -19,6 +19,12 @@ struct RunJob {
   std::string mode;         // fast, realtime, lockstep; empty: fast with a script, realtime over LCM
   std::string replay_path;  // a session's session.lcmlog: its applied controls, tick by tick (mode fast)
   double max_s = 0.0;       // 0: the exercise's time limit
+  // Frames (the exercise's <record>: rate, camera, size) rendered on a second
+  // thread into RUN/frames; a video too when ffmpeg is on the PATH.
+  bool record = false;
+  std::string render_backend = "auto";  // auto, egl, osmesa
+  int frame_width = 0, frame_height = 0;  // 0: the exercise's
+  std::string camera;                   // empty: the exercise's
   bool terrain_tiles = false;  // publish and log the soil's changed tiles every 0.5 s (SKIDSIM_TERRAIN)
 };
 

@@ -106,10 +106,26 @@ render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
   const int cube = static_cast<int>(s.meshes.size()) - 1;
   const Eigen::Vector2d size = ex.site_size_m;
   if (ex.firm_ground) {
-    // The yard, a little beyond the site.
-    const Eigen::Vector3d centre(0.5 * size.x(), 0.5 * size.y(), -0.05);
-    s.instances.push_back({cube, box_pose(Eigen::Isometry3d::Identity(), centre, Eigen::Vector3d(size.x() + 20.0, size.y() + 20.0, 0.1)),
-                           Eigen::Vector3f(0.42f, 0.40f, 0.36f)});
+    // The yard, 10 m beyond the site on every side. Around soil it is a
+    // frame, not a slab under it: a rut worn down to the base would show
+    // the slab's top through the sand.
+    const Eigen::Vector3f yard(0.42f, 0.40f, 0.36f);
+    const auto slab = [&](double x0, double y0, double x1, double y1) {
+      s.instances.push_back({cube, box_pose(Eigen::Isometry3d::Identity(), {0.5 * (x0 + x1), 0.5 * (y0 + y1), -0.05}, {x1 - x0, y1 - y0, 0.1}), yard});
+    };
+    constexpr double kMargin = 10.0;
+    const double x_lo = -kMargin, y_lo = -kMargin, x_hi = size.x() + kMargin, y_hi = size.y() + kMargin;
+    if (const terrain::GranularGrid* g = world.terrain()) {
+      // The hole: the soil's mesh, cell (0, 0) to cell (nx - 1, ny - 1).
+      const double x0 = g->spec().origin_m.x(), y0 = g->spec().origin_m.y();
+      const double x1 = x0 + (g->nx() - 1) * g->cell_size_m(), y1 = y0 + (g->ny() - 1) * g->cell_size_m();
+      slab(x_lo, y_lo, x0, y_hi);
+      slab(x1, y_lo, x_hi, y_hi);
+      slab(x0, y_lo, x1, y0);
+      slab(x0, y1, x1, y_hi);
+    } else {
+      slab(x_lo, y_lo, x_hi, y_hi);
+    }
   }
   for (const io::BoxObstacle& b : ex.boxes) {
     const Eigen::Isometry3d frame(Eigen::AngleAxisd(b.yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()));

@@ -218,6 +218,13 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--lcm", run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
   run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
   run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time (default: the exercise's limit)");
+  run_cmd->add_flag("--record", run.record,
+                    "Render frames (the exercise's <record>: rate, camera, size) into RUN/frames on a second thread;\n"
+                    "a video too (session.mp4) when ffmpeg is on the PATH");
+  run_cmd->add_option("--camera", run.camera, "With --record: cab, chase, aerial or fixed (default: the exercise's)");
+  run_cmd->add_option("--frame-width", run.frame_width, "With --record: pixels (default: the exercise's)");
+  run_cmd->add_option("--frame-height", run.frame_height, "With --record: pixels (default: the exercise's)");
+  run_cmd->add_option("--render-backend", run.render_backend, "With --record: auto, egl or osmesa")->capture_default_str();
   run_cmd->add_flag("--terrain-tiles", run.terrain_tiles,
                     "Also send the soil's surface over LCM and to the log (SKIDSIM_TERRAIN): every 32 x 32 tile\n"
                     "at the start, then those that changed, every 0.5 s and at the end");

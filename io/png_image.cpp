@@ -1,5 +1,7 @@
 #include "io/png_image.h"
 
+#include <algorithm>
+
 #include <png.h>
 
 #include <cstdio>
@@ -20,7 +22,7 @@ struct FileCloser {
 }  // namespace
 
 void write_png_rows(const std::string& path, int width, int height, int bit_depth, int colour_type,
-                    const std::uint8_t* data, std::size_t row_bytes) {
+                    const std::uint8_t* data, std::size_t row_bytes, int zlib_level) {
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
   if (!file) throw std::runtime_error("cannot open " + path + " for writing");
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
@@ -34,6 +36,7 @@ void write_png_rows(const std::string& path, int width, int height, int bit_dept
     throw std::runtime_error("libpng: error while writing " + path);
   }
   png_init_io(png, file.get());
+  if (zlib_level >= 0) png_set_compression_level(png, std::min(zlib_level, 9));
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth, colour_type,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
@@ -44,14 +47,14 @@ void write_png_rows(const std::string& path, int width, int height, int bit_dept
   if (std::fflush(file.get()) != 0) throw std::runtime_error("cannot write " + path);
 }
 
-void write_png_rgb8(const std::string& path, const RgbImage& image) {
+void write_png_rgb8(const std::string& path, const RgbImage& image, int zlib_level) {
   if (image.width < 1 || image.height < 1 ||
       image.rgb.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
     throw std::invalid_argument("write_png_rgb8: the pixels do not match " + std::to_string(image.width) + " x " +
                                 std::to_string(image.height));
   write_atomically(path, [&](const std::string& tmp) {
     write_png_rows(tmp, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, image.rgb.data(),
-                   static_cast<std::size_t>(image.width) * 3);
+                   static_cast<std::size_t>(image.width) * 3, zlib_level);
   });
 }
 

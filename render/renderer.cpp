@@ -1,5 +1,6 @@
 #include "render/renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -175,16 +176,37 @@ struct GpuMesh {
   std::size_t vertices = 0, indices = 0;
 };
 
+// A height field as last drawn: its heights and mask, its mesh here and on
+// the GPU. A new frame updates only the rows whose heights changed.
+struct FieldCache {
+  int nx = 0, ny = 0;
+  std::vector<float> height_m;
+  std::vector<std::uint8_t> shows;
+  Mesh mesh;
+  GpuMesh gpu;
+};
+
 struct Renderer::Gpu {
   GLuint program = 0, depth_program = 0;
   GLuint shadow_fbo = 0, shadow_texture = 0;
-  std::vector<GpuMesh> meshes;  // by Scene::meshes index
-  std::vector<GpuMesh> fields;  // by Scene::fields index
-  Mesh field_mesh;              // scratch
-  std::vector<float> interleaved;
+  std::vector<GpuMesh> meshes;     // by Scene::meshes index
+  std::vector<FieldCache> fields;  // by Scene::fields index
+  std::vector<float> interleaved;  // scratch
 };
 
 namespace {
+
+// Vertices [first, end) of the mesh, positions and normals interleaved.
+void interleave(const Mesh& mesh, std::size_t first, std::size_t end, std::vector<float>& interleaved) {
+  interleaved.resize((end - first) * 6);
+  for (std::size_t v = first; v < end; ++v) {
+    float* out = &interleaved[6 * (v - first)];
+    for (int k = 0; k < 3; ++k) {
+      out[k] = mesh.positions_m[v][k];
+      out[3 + k] = v < mesh.normals.size() ? mesh.normals[v][k] : (k == 2 ? 1.0f : 0.0f);
+    }
+  }
+}
 
 void upload(const GlApi& gl, const Mesh& mesh, GpuMesh& g, std::vector<float>& interleaved) {
   if (!g.vao) {
@@ -192,13 +214,7 @@ void upload(const GlApi& gl, const Mesh& mesh, GpuMesh& g, std::vector<float>& i
     gl.GenBuffers(1, &g.vbo);
     gl.GenBuffers(1, &g.ibo);
   }
-  interleaved.resize(mesh.positions_m.size() * 6);
-  for (std::size_t v = 0; v < mesh.positions_m.size(); ++v) {
-    for (int k = 0; k < 3; ++k) {
-      interleaved[6 * v + k] = mesh.positions_m[v][k];
-      interleaved[6 * v + 3 + k] = v < mesh.normals.size() ? mesh.normals[v][k] : (k == 2 ? 1.0f : 0.0f);
-    }
-  }
+  interleave(mesh, 0, mesh.positions_m.size(), interleaved);
   gl.BindVertexArray(g.vao);
   gl.BindBuffer(GL_ARRAY_BUFFER, g.vbo);
   gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)), interleaved.data(),
@@ -212,6 +228,49 @@ void upload(const GlApi& gl, const Mesh& mesh, GpuMesh& g, std::vector<float>& i
   gl.EnableVertexAttribArray(1);
   g.vertices = mesh.positions_m.size();
   g.indices = mesh.indices.size();
+}
+
+// A field's mesh brought up to date: rebuilt when its size or mask changed,
+// otherwise updated over the rectangle of cells whose heights changed, and
+// only those rows (and the index buffer, if a diagonal flipped) uploaded.
+void update_field(const GlApi& gl, const HeightField& f, FieldCache& c, std::vector<float>& interleaved) {
+  if (!c.gpu.vao || c.nx != f.nx || c.ny != f.ny || c.shows != f.shows) {
+    build_terrain_mesh(f, c.mesh);
+    upload(gl, c.mesh, c.gpu, interleaved);
+    c.nx = f.nx;
+    c.ny = f.ny;
+    c.height_m = f.height_m;
+    c.shows = f.shows;
+    return;
+  }
+  int i0 = f.nx, j0 = f.ny, i1 = 0, j1 = 0;
+  for (int j = 0; j < f.ny; ++j) {
+    const float* now = &f.height_m[static_cast<std::size_t>(j) * f.nx];
+    const float* was = &c.height_m[static_cast<std::size_t>(j) * f.nx];
+    for (int i = 0; i < f.nx; ++i)
+      if (now[i] != was[i]) {
+        i0 = std::min(i0, i);
+        i1 = std::max(i1, i + 1);
+        j0 = std::min(j0, j);
+        j1 = j + 1;
+      }
+  }
+  if (i1 == 0) return;
+  const bool flipped = update_terrain_mesh(f, i0, j0, i1, j1, c.mesh);
+  for (int j = j0; j < j1; ++j)
+    std::copy_n(&f.height_m[static_cast<std::size_t>(j) * f.nx + i0], i1 - i0, &c.height_m[static_cast<std::size_t>(j) * f.nx + i0]);
+  const std::size_t first = static_cast<std::size_t>(std::max(0, j0 - 1)) * f.nx;
+  const std::size_t end = static_cast<std::size_t>(std::min(f.ny, j1 + 1)) * f.nx;
+  interleave(c.mesh, first, end, interleaved);
+  gl.BindVertexArray(c.gpu.vao);
+  gl.BindBuffer(GL_ARRAY_BUFFER, c.gpu.vbo);
+  gl.BufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(first * 6 * sizeof(float)),
+                   static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)), interleaved.data());
+  if (flipped) {
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c.gpu.ibo);
+    gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(c.mesh.indices.size() * sizeof(std::uint32_t)),
+                     c.mesh.indices.data());
+  }
 }
 
 void release(const GlApi& gl, GpuMesh& g) {
@@ -259,7 +318,7 @@ Renderer::~Renderer() {
   context_.make_current();
   const GlApi& gl = context_.gl();
   for (GpuMesh& g : gpu_->meshes) release(gl, g);
-  for (GpuMesh& g : gpu_->fields) release(gl, g);
+  for (FieldCache& c : gpu_->fields) release(gl, c.gpu);
   gl.DeleteFramebuffers(1, &gpu_->shadow_fbo);
   gl.DeleteTextures(1, &gpu_->shadow_texture);
   gl.DeleteProgram(gpu_->program);
@@ -276,10 +335,7 @@ void Renderer::render(const Scene& scene, const Camera& camera) {
     if (g.meshes[k].vertices != scene.meshes[k].positions_m.size() || g.meshes[k].indices != scene.meshes[k].indices.size())
       upload(gl, scene.meshes[k], g.meshes[k], g.interleaved);
   if (g.fields.size() < scene.fields.size()) g.fields.resize(scene.fields.size());
-  for (std::size_t k = 0; k < scene.fields.size(); ++k) {
-    build_terrain_mesh(scene.fields[k], g.field_mesh);
-    upload(gl, g.field_mesh, g.fields[k], g.interleaved);
-  }
+  for (std::size_t k = 0; k < scene.fields.size(); ++k) update_field(gl, scene.fields[k], g.fields[k], g.interleaved);
   const auto draw_all = [&](GLint model_location, GLint colour_location, GLint grain_location) {
     for (const MeshInstance& m : scene.instances) {
       if (m.mesh < 0 || static_cast<std::size_t>(m.mesh) >= scene.meshes.size()) continue;
@@ -293,7 +349,7 @@ void Renderer::render(const Scene& scene, const Camera& camera) {
       gl.UniformMatrix4fv(model_location, 1, GL_FALSE, model_of(f.pose.matrix()).data());
       if (colour_location >= 0) gl.Uniform3fv(colour_location, 1, f.colour.data());
       if (grain_location >= 0) gl.Uniform1f(grain_location, 1.0f);
-      draw(gl, g.fields[k]);
+      draw(gl, g.fields[k].gpu);
     }
   };
   const Eigen::Matrix4f sun = sun_view_projection(scene);

@@ -15,15 +15,15 @@ namespace skidsim::render {
 
 class Renderer {
  public:
-  explicit Renderer(OffscreenContext& context, int shadow_map_size = 2048);
+  explicit Renderer(OffscreenContext& context, int shadow_map_size = 1024);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
   // Renders the frame; read it with context.read_rgb. Meshes are uploaded
   // the first time a Scene's mesh index is seen with that vertex count, and
-  // again when it changes; height fields are meshed every frame (the
-  // terrain's incremental update is the caller's, through terrain_mesh.h).
+  // again when it changes. Height fields are kept by index: only the rows
+  // whose heights changed since the last frame are remeshed and uploaded.
   void render(const Scene& scene, const Camera& camera);
 
  private:

@@ -64,24 +64,33 @@ bool update_terrain_mesh(const HeightField& f, int i0, int j0, int i1, int j1, M
   j1 = std::min(f.ny, j1 + 1);
   for (int j = j0; j < j1; ++j)
     for (int i = i0; i < i1; ++i) set_vertex(f, i, j, m);
-  // Did a quad in the region change its diagonal? Compare with the index
-  // buffer (each shown quad is 6 indices, in write_indices' order).
+  // The quads touching the region keep their place in the index buffer
+  // (write_indices' order); one whose diagonal no longer follows the
+  // surface is rewritten there.
   bool flipped = false;
+  const auto rewrite = [&](int i, int j, std::size_t q) {
+    const bool main = split_along_main_diagonal(height(f, i, j), height(f, i + 1, j), height(f, i, j + 1), height(f, i + 1, j + 1));
+    if ((m.indices[q + 2] == static_cast<std::uint32_t>((j + 1) * f.nx + i + 1)) == main) return;
+    const auto v00 = static_cast<std::uint32_t>(j * f.nx + i), v10 = v00 + 1;
+    const auto v01 = v00 + static_cast<std::uint32_t>(f.nx), v11 = v01 + 1;
+    const std::uint32_t quad[2][6] = {{v00, v10, v01, v10, v11, v01}, {v00, v10, v11, v00, v11, v01}};
+    std::copy(quad[main], quad[main] + 6, m.indices.begin() + static_cast<std::ptrdiff_t>(q));
+    flipped = true;
+  };
+  const int qi0 = std::max(0, i0 - 1), qj0 = std::max(0, j0 - 1);
+  if (f.shows.empty()) {
+    for (int j = qj0; j < j1 && j + 1 < f.ny; ++j)
+      for (int i = qi0; i < i1 && i + 1 < f.nx; ++i) rewrite(i, j, 6 * (static_cast<std::size_t>(j) * (f.nx - 1) + i));
+    return flipped;
+  }
+  // With a mask, a quad's place is the count of shown quads before it.
   std::size_t q = 0;
-  for (int j = 0; j + 1 < f.ny && !flipped; ++j)
+  for (int j = 0; j + 1 < f.ny && j < j1; ++j)
     for (int i = 0; i + 1 < f.nx; ++i) {
       if (!(shows(f, i, j) || shows(f, i + 1, j) || shows(f, i, j + 1) || shows(f, i + 1, j + 1))) continue;
-      if (j >= j0 - 1 && j < j1 && i >= i0 - 1 && i < i1) {
-        const bool main = m.indices[q + 2] == static_cast<std::uint32_t>((j + 1) * f.nx + i + 1);
-        if (main != split_along_main_diagonal(height(f, i, j), height(f, i + 1, j), height(f, i, j + 1),
-                                              height(f, i + 1, j + 1))) {
-          flipped = true;
-          break;
-        }
-      }
+      if (j >= qj0 && i >= qi0 && i < i1) rewrite(i, j, q);
       q += 6;
     }
-  if (flipped) write_indices(f, m);
   return flipped;
 }
 

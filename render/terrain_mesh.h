@@ -19,8 +19,8 @@ void build_terrain_mesh(const HeightField& field, Mesh& mesh);
 // Updates the vertices of cells [i0, i1) x [j0, j1) (and the normals of
 // their neighbours) and the diagonals of the quads they touch, after those
 // heights changed; the mesh must have been built from a field of the same
-// size and mask. Returns whether any quad's diagonal flipped (the index
-// buffer then changed too).
+// size and mask. Vertices of rows [j0 - 1, j1 + 1) change; returns whether
+// any quad's diagonal flipped (rewritten in place in the index buffer).
 bool update_terrain_mesh(const HeightField& field, int i0, int j0, int i1, int j1, Mesh& mesh);
 
 }  // namespace skidsim::render

@@ -16,6 +16,8 @@ SKIDSIM_PACKAGES=(
   liblcm-dev liblcm-bin libglib2.0-dev  # LCM: messages, lcm-gen, lcm-logger (pkg-config lcm needs glib)
   libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev  # off-screen OpenGL: EGL, Mesa's drivers, GL headers
   libosmesa6-dev         # off-screen OpenGL: the OSMesa fallback
+  ffmpeg                 # recorded frames -> session.mp4
+  chromium-headless-shell  # the review page's test (loads review.html, screenshots it)
 )
 
 # install_packages WHO PACKAGE...: installs those not installed yet.

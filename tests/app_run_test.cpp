@@ -12,6 +12,7 @@
 #include <cmath>
 #include <vector>
 #include <cstdlib>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -20,6 +21,7 @@
 #include "skidsim_lcm/state_t.hpp"
 #include "skidsim_lcm/terrain_tile_t.hpp"
 #include "io/heightmap.h"
+#include "io/png_image.h"
 #include "tests/app_support.h"
 
 namespace {
@@ -288,6 +290,38 @@ TEST(SkidsimRun, AnInterruptedSessionKeepsWhatItRecorded) {
   EXPECT_GT(report["performance"]["simulated_s"].get<double>(), 0.5);
   EXPECT_LT(report["performance"]["simulated_s"].get<double>(), 10.0);
   EXPECT_TRUE(fs::exists(dir / "session.lcmlog"));
+}
+
+// Recording renders frames on a second thread from snapshots and never
+// changes the session: the same final state with and without it.
+TEST(SkidsimRun, RecordingFramesDoesNotChangeTheSession) {
+  std::string hash[2];
+  for (int k = 0; k < 2; ++k) {
+    const fs::path dir = fs::temp_directory_path() / ("skidsim_run_record_" + std::to_string(k));
+    fs::remove_all(dir);
+    const std::string record = k == 1 ? " --record --frame-width 160 --frame-height 90 --render-backend osmesa" : "";
+    const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --max-s 4" + record + " --out " + dir.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+    hash[k] = report["final_state_hash"];
+    if (k == 1) {
+      EXPECT_EQ(report["recording"]["frames"], 40) << "4 s at 10 frames a second";
+      EXPECT_EQ(report["recording"]["camera"], "chase");
+      const skidsim::io::RgbImage last = skidsim::io::read_png_rgb8((dir / "frames" / "frame_000039.png").string());
+      EXPECT_EQ(last.width, 160);
+      std::set<std::uint32_t> colours;
+      for (std::size_t c = 0; c < last.rgb.size(); c += 3)
+        colours.insert(static_cast<std::uint32_t>(last.rgb[c]) << 16 | static_cast<std::uint32_t>(last.rgb[c + 1]) << 8 | last.rgb[c + 2]);
+      EXPECT_GT(colours.size(), 100u) << "sky, ground, sand and machine";
+    }
+  }
+  EXPECT_EQ(hash[0], hash[1]);
+  // A camera the exercise format does not have: refused, nothing written.
+  const fs::path bad = fs::temp_directory_path() / "skidsim_run_record_bad";
+  fs::remove_all(bad);
+  const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --record --camera drone --out " + bad.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(bad));
 }
 
 TEST(SkidsimRun, SameScriptTwiceGivesTheSameFinalState) {

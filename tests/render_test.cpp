@@ -139,25 +139,56 @@ TEST(TerrainMesh, QuadsSplitAlongADiagonalCrest) {
   }
 }
 
-// Updating a changed region gives the mesh a full rebuild gives.
+// Updating a changed region gives the mesh a full rebuild gives, with and
+// without a mask of shown cells (a bucket's material).
 TEST(TerrainMesh, RegionUpdateEqualsARebuild) {
-  render::HeightField f;
-  f.nx = 20;
-  f.ny = 15;
-  f.cell_m = 0.05;
-  f.height_m.assign(300, 0.2f);
-  render::Mesh updated;
-  render::build_terrain_mesh(f, updated);
-  for (int j = 5; j < 9; ++j)
-    for (int i = 3; i < 10; ++i) f.height_m[static_cast<std::size_t>(j * 20 + i)] = 0.2f + 0.03f * static_cast<float>((i * 7 + j * 3) % 5);
-  EXPECT_TRUE(render::update_terrain_mesh(f, 3, 5, 10, 9, updated));
-  render::Mesh rebuilt;
-  render::build_terrain_mesh(f, rebuilt);
-  EXPECT_EQ(updated.indices, rebuilt.indices);
-  for (std::size_t v = 0; v < rebuilt.positions_m.size(); ++v) {
-    EXPECT_EQ(updated.positions_m[v], rebuilt.positions_m[v]) << v;
-    EXPECT_EQ(updated.normals[v], rebuilt.normals[v]) << v;
+  for (const bool masked : {false, true}) {
+    render::HeightField f;
+    f.nx = 20;
+    f.ny = 15;
+    f.cell_m = 0.05;
+    f.height_m.assign(300, 0.2f);
+    if (masked)
+      for (int c = 0; c < 300; ++c) f.shows.push_back(c % 20 > 2 && c / 20 > 1 ? 1 : 0);
+    render::Mesh updated;
+    render::build_terrain_mesh(f, updated);
+    for (int j = 5; j < 9; ++j)
+      for (int i = 3; i < 10; ++i) f.height_m[static_cast<std::size_t>(j * 20 + i)] = 0.2f + 0.03f * static_cast<float>((i * 7 + j * 3) % 5);
+    EXPECT_TRUE(render::update_terrain_mesh(f, 3, 5, 10, 9, updated)) << masked;
+    render::Mesh rebuilt;
+    render::build_terrain_mesh(f, rebuilt);
+    EXPECT_EQ(updated.indices, rebuilt.indices) << masked;
+    for (std::size_t v = 0; v < rebuilt.positions_m.size(); ++v) {
+      EXPECT_EQ(updated.positions_m[v], rebuilt.positions_m[v]) << v;
+      EXPECT_EQ(updated.normals[v], rebuilt.normals[v]) << v;
+    }
   }
+}
+
+// The renderer keeps each field's mesh and updates the rows that changed:
+// a frame after a change matches, pixel for pixel, the frame a fresh
+// renderer draws of the changed scene.
+TEST(RenderBackends, IncrementalTerrainUpdateDrawsWhatARebuildDraws) {
+  auto context = render::make_offscreen_context("osmesa", kWidth, kHeight);
+  render::Scene scene = fixed_scene();
+  std::vector<std::uint8_t> updated, rebuilt;
+  {
+    render::Renderer renderer(*context);
+    (void)render::render_rgb(*context, renderer, scene, fixed_camera());
+    for (int j = 10; j < 25; ++j)  // a trench across the cone's flank
+      for (int i = 20; i < 40; ++i) scene.fields[0].height_m[static_cast<std::size_t>(j * 61 + i)] *= 0.3f;
+    updated = render::render_rgb(*context, renderer, scene, fixed_camera());
+  }
+  {
+    render::Renderer renderer(*context);
+    rebuilt = render::render_rgb(*context, renderer, scene, fixed_camera());
+  }
+  EXPECT_EQ(updated, rebuilt);
+  const std::vector<std::uint8_t> before = render_on("osmesa").rgb;
+  int changed_pixels = 0;
+  for (std::size_t k = 0; k < before.size(); k += 3)
+    changed_pixels += before[k] != updated[k] || before[k + 1] != updated[k + 1] || before[k + 2] != updated[k + 2];
+  EXPECT_GT(changed_pixels, 1000) << "the trench shows";
 }
 
 }  // namespace
