@@ -229,6 +229,30 @@ std::string render_report_html(const json& report) {
     out << "</table>\n";
   }
 
+  // The score, term by term.
+  const json& breakdown = field(result, "score_breakdown");
+  if (breakdown.is_array() && !breakdown.empty()) {
+    out << "<h2>Score</h2>\n<table><tr><th>metric</th><th>value</th><th>weight</th><th>points</th></tr>";
+    for (const json& b : breakdown)
+      out << "<tr><td>" << text(field(b, "metric")) << "</td><td>" << text(field(b, "value")) << "</td><td>"
+          << text(field(b, "weight")) << "</td><td>" << text(field(b, "points")) << "</td></tr>";
+    out << "</table>\n";
+  }
+
+  // A strip of the recorded frames (frames/ beside this page), evenly spaced.
+  const std::optional<double> frames = number(field(field(report, "recording"), "frames"));
+  if (frames && *frames >= 1 && *frames < 1e9) {
+    const auto n = static_cast<long long>(*frames);
+    const long long shown = std::min<long long>(8, n);
+    out << "<h2>Frames</h2>\n<p>";
+    for (long long k = 0; k < shown; ++k) {
+      char frame_name[40];
+      std::snprintf(frame_name, sizeof frame_name, "frames/frame_%06lld.png", shown == 1 ? 0 : k * (n - 1) / (shown - 1));
+      out << "<img src=\"" << frame_name << "\" width=\"200\" alt=\"" << frame_name << "\"> ";
+    }
+    out << "</p>\n";
+  }
+
   const json& metrics = field(report, "metrics");
   const json& not_measured = field(report, "metrics_not_measured_yet");
   if (metrics.is_object() || not_measured.is_array()) out << "<h2>Metrics</h2>\n";

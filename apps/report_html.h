@@ -12,7 +12,8 @@ namespace skidsim::apps {
 // external files): the exercise's name, a pass/fail banner with the score
 // against the pass score, the end reason, mode and operator; tables of the
 // tasks, metrics (and those not measured yet), events, control-input counts
-// and performance; the final state hash; and one inline-SVG line plot per
+// and performance; the score term by term; a strip of up to 8 recorded
+// frames (frames/ beside the page); the final state hash; one inline-SVG line plot per
 // series of report["timeline"] (columnar: "t_s" and equal-length numeric
 // arrays, at most 600 points drawn per plot, events of severity >= 1 as
 // vertical lines). All text from the report is HTML-escaped. Never throws on

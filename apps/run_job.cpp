@@ -216,10 +216,12 @@ int run_session(const RunJob& job) {
   std::unique_ptr<FrameRecorder> recorder;
   render::Scene scene;
   const std::string camera_name = job.camera.empty() ? ex.recording.camera : job.camera;
+  const double fps = job.frame_fps > 0.0 ? job.frame_fps : ex.recording.fps;
+  const int fw = job.frame_width > 0 ? job.frame_width : ex.recording.width;
+  const int fh = job.frame_height > 0 ? job.frame_height : ex.recording.height;
   double next_frame_s = 0.0;
   if (job.record) {
-    const int fw = job.frame_width > 0 ? job.frame_width : ex.recording.width;
-    const int fh = job.frame_height > 0 ? job.frame_height : ex.recording.height;
+    if (!(fps >= 0.1 && fps <= 500.0)) throw io::InputError("--fps: expected 0.1 to 500 frames a second");
     if (fw < 16 || fh < 16 || fw > 8192 || fh > 8192) throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
     if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")
       throw io::InputError("--render-backend '" + job.render_backend + "': expected auto, egl or osmesa");
@@ -332,7 +334,7 @@ int run_session(const RunJob& job) {
       if (recorder && t >= next_frame_s - 1e-9) {
         update_scene(*world, scene);
         recorder->submit(scene, exercise_camera(camera_name, ex, *world));
-        next_frame_s += 1.0 / ex.recording.fps;
+        next_frame_s += 1.0 / fps;
       }
       if (step % kStepsPerSample == 0) {
         double progress_now = 0.0, worst_slip = 0.0;
@@ -385,8 +387,9 @@ int run_session(const RunJob& job) {
   json recording = nullptr;
   if (recorder) {
     recorder->finish();
-    recording = {{"frames", recorder->frames_written()}, {"fps", ex.recording.fps}, {"camera", camera_name},
-                 {"dir", "frames"}, {"renderer", recorder->renderer()}, {"video", encode_video(run_dir.staging(), ex.recording.fps)}};
+    recording = {{"frames", recorder->frames_written()}, {"fps", fps}, {"camera", camera_name}, {"dir", "frames"},
+                 {"width", fw}, {"height", fh}, {"renderer", recorder->renderer()},
+                 {"video", encode_video(run_dir.staging(), fps)}};
   }
   // The end, at the step the world stopped at: a replay stops there too.
   tasks.finish(*world);

@@ -24,6 +24,7 @@ struct RunJob {
   bool record = false;
   std::string render_backend = "auto";  // auto, egl, osmesa
   int frame_width = 0, frame_height = 0;  // 0: the exercise's
+  double frame_fps = 0.0;                 // 0: the exercise's
   std::string camera;                   // empty: the exercise's
   bool terrain_tiles = false;  // publish and log the soil's changed tiles every 0.5 s (SKIDSIM_TERRAIN)
 };

@@ -160,7 +160,10 @@ void update_scene(const engine::World& world, render::Scene& s) {
     s.instances[k++].pose = pose;
   });
   s.fields.clear();
-  if (const terrain::GranularGrid* g = world.terrain()) s.fields.push_back(field_of(*g, Eigen::Isometry3d::Identity(), false));
+  if (const terrain::GranularGrid* g = world.terrain()) {
+    s.fields.push_back(field_of(*g, Eigen::Isometry3d::Identity(), false));
+    s.fields.back().skirt_bottom_m = -0.3f;  // below the yard: the layer's sides closed
+  }
   if (const terrain::BodyAutomaton* b = world.bucket_material()) s.fields.push_back(field_of(b->grid(), b->pose(), true));
   for (int t = 0; t < world.tray_count(); ++t) s.fields.push_back(field_of(world.tray(t).grid(), world.tray(t).pose(), true));
 }
@@ -171,9 +174,10 @@ render::Camera exercise_camera(const std::string& name, const io::Exercise& ex, 
   const Eigen::Vector3d ahead = Eigen::Vector3d(x.x(), x.y(), 0.0).normalized();
   const Eigen::Vector3d at = chassis.translation();
   render::Camera c;
-  if (name == "chase") {  // behind and above, looking over the machine
-    c.eye_m = at - 6.5 * ahead + Eigen::Vector3d(0, 0, 3.8);
-    c.target_m = at + 2.0 * ahead + Eigen::Vector3d(0, 0, 0.3);
+  if (name == "chase") {  // behind, above and to the left: the bucket shows past the cab
+    const Eigen::Vector3d left(-ahead.y(), ahead.x(), 0.0);
+    c.eye_m = at - 5.5 * ahead + 3.0 * left + Eigen::Vector3d(0, 0, 3.8);
+    c.target_m = at + 1.5 * ahead + Eigen::Vector3d(0, 0, 0.4);
   } else if (name == "cab") {  // the operator's seat, looking out over the bucket
     c.eye_m = chassis * Eigen::Vector3d(-0.15, 0.0, 1.25);
     c.target_m = chassis * Eigen::Vector3d(4.0, 0.0, 0.2);

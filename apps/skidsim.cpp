@@ -15,6 +15,7 @@
 #include "apps/push_job.h"
 #include "apps/operator_job.h"
 #include "apps/render_job.h"
+#include "apps/review_job.h"
 #include "apps/run_job.h"
 #include "apps/session_tasks.h"
 #include "apps/session_world.h"
@@ -224,6 +225,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--camera", run.camera, "With --record: cab, chase, aerial or fixed (default: the exercise's)");
   run_cmd->add_option("--frame-width", run.frame_width, "With --record: pixels (default: the exercise's)");
   run_cmd->add_option("--frame-height", run.frame_height, "With --record: pixels (default: the exercise's)");
+  run_cmd->add_option("--fps", run.frame_fps, "With --record: frames a second (default: the exercise's)");
   run_cmd->add_option("--render-backend", run.render_backend, "With --record: auto, egl or osmesa")->capture_default_str();
   run_cmd->add_flag("--terrain-tiles", run.terrain_tiles,
                     "Also send the soil's surface over LCM and to the log (SKIDSIM_TERRAIN): every 32 x 32 tile\n"
@@ -243,6 +245,19 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--height", render_job.height, "Pixels (default: the exercise's <record>)");
   render_cmd->add_option("--script", render_job.script_path, "Operator script to play first");
   render_cmd->add_option("--at-s", render_job.at_s, "Simulated seconds of the script to play first");
+
+  skidsim::apps::ReviewJob review_job;
+  CLI::App* review_cmd = app.add_subcommand(
+      "review", "Build a run directory's review page (review.html: frames under a scrubber in step with the\n"
+                "timeline plots and events, the score term by term) and contact_sheet.png; with --camera or --fps,\n"
+                "first render the session again by replaying its log (frames_<camera>_<fps>fps)");
+  review_cmd->add_option("run_dir", review_job.run_dir, "Run directory (of skidsim run)")->required();
+  review_cmd->add_option("--camera", review_job.camera, "Re-render from this camera: cab, chase, aerial or fixed");
+  review_cmd->add_option("--fps", review_job.fps, "Re-render at this rate (frames a second)");
+  review_cmd->add_option("--width", review_job.width, "Re-render size in pixels (default: the exercise's <record>)");
+  review_cmd->add_option("--height", review_job.height, "Re-render size in pixels (default: the exercise's <record>)");
+  review_cmd->add_option("--backend", review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
+  review_cmd->add_option("--exercise", review_job.exercise_path, "The exercise file (default: the one report.json names)");
 
   skidsim::apps::OperatorJob operator_job;
   CLI::App* operator_cmd = app.add_subcommand(
@@ -294,6 +309,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return skidsim::apps::run_session(run);
     if (*operator_cmd) return skidsim::apps::run_operator(operator_job);
     if (*render_cmd) return skidsim::apps::render_frame(render_job);
+    if (*review_cmd) return skidsim::apps::review_session(review_job);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);

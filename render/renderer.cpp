@@ -182,6 +182,7 @@ struct FieldCache {
   int nx = 0, ny = 0;
   std::vector<float> height_m;
   std::vector<std::uint8_t> shows;
+  std::size_t skirt_vertices = 0;
   Mesh mesh;
   GpuMesh gpu;
 };
@@ -234,13 +235,14 @@ void upload(const GlApi& gl, const Mesh& mesh, GpuMesh& g, std::vector<float>& i
 // otherwise updated over the rectangle of cells whose heights changed, and
 // only those rows (and the index buffer, if a diagonal flipped) uploaded.
 void update_field(const GlApi& gl, const HeightField& f, FieldCache& c, std::vector<float>& interleaved) {
-  if (!c.gpu.vao || c.nx != f.nx || c.ny != f.ny || c.shows != f.shows) {
+  if (!c.gpu.vao || c.nx != f.nx || c.ny != f.ny || c.shows != f.shows || c.skirt_vertices != skirt_vertex_count(f)) {
     build_terrain_mesh(f, c.mesh);
     upload(gl, c.mesh, c.gpu, interleaved);
     c.nx = f.nx;
     c.ny = f.ny;
     c.height_m = f.height_m;
     c.shows = f.shows;
+    c.skirt_vertices = skirt_vertex_count(f);
     return;
   }
   int i0 = f.nx, j0 = f.ny, i1 = 0, j1 = 0;
@@ -266,6 +268,12 @@ void update_field(const GlApi& gl, const HeightField& f, FieldCache& c, std::vec
   gl.BindBuffer(GL_ARRAY_BUFFER, c.gpu.vbo);
   gl.BufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(first * 6 * sizeof(float)),
                    static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)), interleaved.data());
+  if (skirt_vertex_count(f) > 0 && (i0 <= 1 || j0 <= 1 || i1 >= f.nx - 1 || j1 >= f.ny - 1)) {
+    const std::size_t skirt = static_cast<std::size_t>(f.nx) * f.ny;
+    interleave(c.mesh, skirt, c.mesh.positions_m.size(), interleaved);
+    gl.BufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(skirt * 6 * sizeof(float)),
+                     static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)), interleaved.data());
+  }
   if (flipped) {
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c.gpu.ibo);
     gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(c.mesh.indices.size() * sizeof(std::uint32_t)),

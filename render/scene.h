@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace skidsim::render {
@@ -32,6 +33,9 @@ struct HeightField {
   // Cells that show (material in a bucket or bed); empty: every cell. A
   // quad is drawn where any of its corners shows.
   std::vector<std::uint8_t> shows;
+  // A skirt: walls down from the field's four edges to this height (field
+  // frame), so that a soil layer seen from its side is closed. NaN: none.
+  float skirt_bottom_m = std::numeric_limits<float>::quiet_NaN();
   Eigen::Vector3f colour = Eigen::Vector3f(0.76f, 0.62f, 0.40f);  // dry sand
 };
 

@@ -1,6 +1,7 @@
 #include "render/terrain_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace skidsim::render {
@@ -42,19 +43,63 @@ void write_indices(const HeightField& f, Mesh& m) {
     }
 }
 
+bool has_skirt(const HeightField& f) { return !std::isnan(f.skirt_bottom_m) && f.shows.empty(); }
+
+// The skirt's four sides: the edge cells of each, in order, and the way out.
+struct SkirtSide {
+  int i0, j0, di, dj, count;
+  Eigen::Vector3f outward;
+};
+std::array<SkirtSide, 4> skirt_sides(const HeightField& f) {
+  return {{{0, 0, 1, 0, f.nx, -Eigen::Vector3f::UnitY()},
+           {f.nx - 1, 0, 0, 1, f.ny, Eigen::Vector3f::UnitX()},
+           {0, f.ny - 1, 1, 0, f.nx, Eigen::Vector3f::UnitY()},
+           {0, 0, 0, 1, f.ny, -Eigen::Vector3f::UnitX()}}};
+}
+
+// The skirt's vertices of the edge cells in [i0, i1) x [j0, j1).
+void set_skirt_vertices(const HeightField& f, int i0, int j0, int i1, int j1, Mesh& m) {
+  std::size_t v = static_cast<std::size_t>(f.nx) * f.ny;
+  const auto d = static_cast<float>(f.cell_m);
+  for (const SkirtSide& s : skirt_sides(f))
+    for (int k = 0; k < s.count; ++k, v += 2) {
+      const int i = s.i0 + k * s.di, j = s.j0 + k * s.dj;
+      if (i < i0 || i >= i1 || j < j0 || j >= j1) continue;
+      m.positions_m[v] = Eigen::Vector3f(d * i, d * j, height(f, i, j));
+      m.positions_m[v + 1] = Eigen::Vector3f(d * i, d * j, std::min(f.skirt_bottom_m, height(f, i, j)));
+      m.normals[v] = m.normals[v + 1] = s.outward;
+    }
+}
+
+void write_skirt_indices(const HeightField& f, Mesh& m) {
+  auto v = static_cast<std::uint32_t>(f.nx * f.ny);
+  for (const SkirtSide& s : skirt_sides(f)) {
+    for (int k = 0; k + 1 < s.count; ++k, v += 2) m.indices.insert(m.indices.end(), {v, v + 1, v + 3, v, v + 3, v + 2});
+    v += 2;
+  }
+}
+
 }  // namespace
+
+std::size_t skirt_vertex_count(const HeightField& f) {
+  return has_skirt(f) ? 4 * static_cast<std::size_t>(f.nx + f.ny) : 0;
+}
 
 bool split_along_main_diagonal(float h00, float h10, float h01, float h11) {
   return std::abs(h00 - h11) <= std::abs(h10 - h01);
 }
 
 void build_terrain_mesh(const HeightField& f, Mesh& m) {
-  const auto n = static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny);
+  const auto n = static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny) + skirt_vertex_count(f);
   m.positions_m.resize(n);
   m.normals.resize(n);
   for (int j = 0; j < f.ny; ++j)
     for (int i = 0; i < f.nx; ++i) set_vertex(f, i, j, m);
   write_indices(f, m);
+  if (has_skirt(f)) {
+    set_skirt_vertices(f, 0, 0, f.nx, f.ny, m);
+    write_skirt_indices(f, m);
+  }
 }
 
 bool update_terrain_mesh(const HeightField& f, int i0, int j0, int i1, int j1, Mesh& m) {
@@ -64,6 +109,7 @@ bool update_terrain_mesh(const HeightField& f, int i0, int j0, int i1, int j1, M
   j1 = std::min(f.ny, j1 + 1);
   for (int j = j0; j < j1; ++j)
     for (int i = i0; i < i1; ++i) set_vertex(f, i, j, m);
+  if (has_skirt(f)) set_skirt_vertices(f, i0, j0, i1, j1, m);
   // The quads touching the region keep their place in the index buffer
   // (write_indices' order); one whose diagonal no longer follows the
   // surface is rewritten there.

@@ -188,5 +188,20 @@ TEST(ReportHtml, DecimationCapsPointsAndKeepsSpikes) {
   EXPECT_EQ(html, render_report_html(report)) << "deterministic";
 }
 
+// The score term by term, and a strip of 8 frames spread over a recording.
+TEST(ReportHtml, ShowsTheScoreBreakdownAndAStripOfFrames) {
+  json report = synthetic_report();
+  report["result"]["score_breakdown"] = json::array({{{"metric", "material_moved_kg"}, {"weight", 0.05}, {"value", 800.0}, {"points", 40.0}}});
+  report["recording"] = {{"frames", 100}, {"fps", 10.0}, {"camera", "chase"}, {"dir", "frames"}};
+  const std::string html = render_report_html(report);
+  EXPECT_NE(html.find("<h2>Score</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<td>material_moved_kg</td><td>800</td><td>0.05</td><td>40</td>"), std::string::npos) << html;
+  EXPECT_EQ(count(html, "<img src=\"frames/frame_"), 8u);
+  EXPECT_NE(html.find("frames/frame_000000.png"), std::string::npos);
+  EXPECT_NE(html.find("frames/frame_000099.png"), std::string::npos);
+  report["recording"] = nullptr;  // no recording: no strip
+  EXPECT_EQ(count(render_report_html(report), "<img"), 0u);
+}
+
 }  // namespace
 }  // namespace skidsim::apps

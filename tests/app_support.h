@@ -15,8 +15,9 @@ struct CommandResult {
   std::string output;  // stdout and stderr
 };
 
-inline CommandResult run_skidsim(const std::string& args) {
-  const std::string cmd = std::string(SKIDSIM_BINARY) + " " + args + " 2>&1";
+// Any shell command, its stdout and stderr together.
+inline CommandResult run_command(const std::string& cmd_line) {
+  const std::string cmd = cmd_line + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf{};
@@ -24,5 +25,7 @@ inline CommandResult run_skidsim(const std::string& args) {
   const int status = pipe ? ::pclose(pipe) : -1;
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
+
+inline CommandResult run_skidsim(const std::string& args) { return run_command(std::string(SKIDSIM_BINARY) + " " + args); }
 
 }  // namespace skidsim::testing

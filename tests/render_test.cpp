@@ -139,10 +139,11 @@ TEST(TerrainMesh, QuadsSplitAlongADiagonalCrest) {
   }
 }
 
-// Updating a changed region gives the mesh a full rebuild gives, with and
-// without a mask of shown cells (a bucket's material).
+// Updating a changed region gives the mesh a full rebuild gives: plain,
+// with a mask of shown cells (a bucket's material), with a skirt.
 TEST(TerrainMesh, RegionUpdateEqualsARebuild) {
-  for (const bool masked : {false, true}) {
+  for (const int variant : {0, 1, 2}) {
+    const bool masked = variant == 1;
     render::HeightField f;
     f.nx = 20;
     f.ny = 15;
@@ -150,11 +151,14 @@ TEST(TerrainMesh, RegionUpdateEqualsARebuild) {
     f.height_m.assign(300, 0.2f);
     if (masked)
       for (int c = 0; c < 300; ++c) f.shows.push_back(c % 20 > 2 && c / 20 > 1 ? 1 : 0);
+    if (variant == 2) f.skirt_bottom_m = -0.3f;
     render::Mesh updated;
     render::build_terrain_mesh(f, updated);
+    EXPECT_EQ(updated.positions_m.size(), variant == 2 ? 300u + 4u * 35u : 300u);
+    const int i0 = variant == 2 ? 0 : 3;  // the skirt's edge changes too
     for (int j = 5; j < 9; ++j)
-      for (int i = 3; i < 10; ++i) f.height_m[static_cast<std::size_t>(j * 20 + i)] = 0.2f + 0.03f * static_cast<float>((i * 7 + j * 3) % 5);
-    EXPECT_TRUE(render::update_terrain_mesh(f, 3, 5, 10, 9, updated)) << masked;
+      for (int i = i0; i < 10; ++i) f.height_m[static_cast<std::size_t>(j * 20 + i)] = 0.2f + 0.03f * static_cast<float>((i * 7 + j * 3) % 5);
+    EXPECT_TRUE(render::update_terrain_mesh(f, i0, 5, 10, 9, updated)) << masked;
     render::Mesh rebuilt;
     render::build_terrain_mesh(f, rebuilt);
     EXPECT_EQ(updated.indices, rebuilt.indices) << masked;

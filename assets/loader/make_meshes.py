@@ -68,7 +68,14 @@ def chassis():
     m = Mesh()
     m.box((-1.05, -0.55, -0.21), (0.70, 0.55, 0.45))      # frame and engine bay
     m.box((-1.35, -0.55, 0.03), (-1.05, 0.55, 0.89))      # rear door, counterweight
-    m.box((-0.55, -0.48, 0.45), (0.55, 0.48, 1.49))       # cab (cage)
+    # The cab: a cage, open at the front and sides (glass is not drawn),
+    # so the cab camera sees out past its posts.
+    m.box((-0.55, -0.48, 1.41), (0.55, 0.48, 1.49))       # roof
+    m.box((-0.55, -0.48, 0.45), (-0.47, 0.48, 1.41))      # rear wall
+    m.box((-0.55, -0.48, 0.45), (0.55, 0.48, 0.55))       # floor and seat base
+    for x in (-0.55, 0.47):
+        for y in (-0.48, 0.42):
+            m.box((x, y, 0.55), (x + 0.08, y + 0.06, 1.41))  # posts
     m.box((-0.62, -0.78, 0.45), (-0.20, -0.55, 1.15))     # right tower
     m.box((-0.62, 0.55, 0.45), (-0.20, 0.78, 1.15))       # left tower
     return m

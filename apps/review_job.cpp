@@ -1,0 +1,165 @@
+#include "apps/review_job.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "apps/contact_sheet.h"
+#include "apps/review_html.h"
+#include "apps/run_job.h"
+#include "io/atomic_file.h"
+
+namespace skidsim::apps {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw io::InputError(path.string() + ": cannot open (is this a run directory of skidsim run?)");
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw io::InputError(path.string() + ": not valid JSON (" + e.what() + ")");
+  }
+}
+
+std::string hash_of(const json& report) {
+  const auto it = report.find("final_state_hash");
+  return it != report.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+std::string fps_text(double fps) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", fps);
+  return buf;
+}
+
+// The frames of a set, in order: frame_000000.png, ... while they exist.
+std::vector<std::string> frame_files(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (int k = 0;; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    if (!fs::exists(dir / name)) break;
+    out.push_back((dir / name).string());
+  }
+  return out;
+}
+
+// The run's own recording (report.json "recording") and every re-render
+// (a frames_* folder with its frames.json).
+std::vector<FrameSet> find_frame_sets(const fs::path& run, const json& report) {
+  std::vector<FrameSet> sets;
+  const json recording = report.contains("recording") ? report["recording"] : json();
+  if (recording.is_object() && recording.value("fps", 0.0) > 0.0) {
+    FrameSet f;
+    f.dir = "frames";
+    f.fps = recording.value("fps", 10.0);
+    f.frames = static_cast<int>(frame_files(run / f.dir).size());
+    f.label = recording.value("camera", std::string("recorded")) + ", " + fps_text(f.fps) + " fps";
+    if (f.frames > 0) sets.push_back(f);
+  }
+  std::vector<fs::path> extra;
+  for (const fs::directory_entry& e : fs::directory_iterator(run))
+    if (e.is_directory() && e.path().filename().string().rfind("frames_", 0) == 0 && fs::exists(e.path() / "frames.json"))
+      extra.push_back(e.path());
+  std::sort(extra.begin(), extra.end());
+  for (const fs::path& dir : extra) {
+    const json meta = read_json(dir / "frames.json");
+    FrameSet f;
+    f.dir = dir.filename().string();
+    f.fps = meta.value("fps", 10.0);
+    f.frames = static_cast<int>(frame_files(dir).size());
+    f.label = meta.value("camera", std::string("?")) + ", " + fps_text(f.fps) + " fps (re-rendered)";
+    if (f.frames > 0 && f.fps > 0.0) sets.push_back(f);
+  }
+  return sets;
+}
+
+// Replays the run with recording on and keeps the frames if the replay
+// reached the run's final state. Returns the exit code.
+int rerender(const ReviewJob& job, const fs::path& run, const json& report) {
+  RunJob r;
+  r.exercise_path = job.exercise_path;
+  if (r.exercise_path.empty()) {
+    const json& ex = report.contains("exercise") ? report["exercise"] : json();
+    for (const char* key : {"absolute_path", "file"})
+      if (ex.is_object() && ex.contains(key) && ex[key].is_string() && fs::exists(ex[key].get<std::string>())) {
+        r.exercise_path = ex[key].get<std::string>();
+        break;
+      }
+    if (r.exercise_path.empty())
+      throw io::InputError((run / "report.json").string() + ": the exercise it names is not there; give it with --exercise");
+  }
+  if (!fs::exists(run / "session.lcmlog")) throw io::InputError((run / "session.lcmlog").string() + ": no session log to replay");
+  r.replay_path = (run / "session.lcmlog").string();
+  r.out_dir = (run / ".review_replay").string();
+  r.record = true;
+  r.camera = job.camera;
+  r.frame_fps = job.fps;
+  r.frame_width = job.width;
+  r.frame_height = job.height;
+  r.render_backend = job.backend;
+  r.mode = "fast";
+  const int code = run_session(r);
+  if (code != 0) return code;
+  const fs::path replay = r.out_dir;
+  const json replayed = read_json(replay / "report.json");
+  if (hash_of(replayed) != hash_of(report)) {
+    fs::remove_all(replay);
+    std::cerr << "skidsim review: the replay ended in state " << hash_of(replayed) << ", the run in " << hash_of(report)
+              << ": not the same session (another build or exercise?); no frames kept\n";
+    return 1;
+  }
+  const json& rec = replayed["recording"];
+  const std::string camera = rec.value("camera", std::string("chase"));
+  const double fps = rec.value("fps", 10.0);
+  const fs::path target = run / ("frames_" + camera + "_" + fps_text(fps) + "fps");
+  io::write_text_atomically((replay / "frames" / "frames.json").string(),
+                            json{{"camera", camera}, {"fps", fps}, {"frames", rec.value("frames", 0)},
+                                 {"width", rec.value("width", 0)}, {"height", rec.value("height", 0)},
+                                 {"renderer", rec.value("renderer", std::string())}, {"replayed_hash", hash_of(replayed)}}
+                                .dump(2));
+  // Swap in the new frames; an older set of the same name goes only after.
+  const fs::path old = run / ".review_old_frames";
+  fs::remove_all(old);
+  if (fs::exists(target)) fs::rename(target, old);
+  fs::rename(replay / "frames", target);
+  if (fs::exists(replay / "session.mp4")) fs::rename(replay / "session.mp4", run / (target.filename().string() + ".mp4"));
+  fs::remove_all(old);
+  fs::remove_all(replay);
+  std::cout << "re-rendered " << rec.value("frames", 0) << " frames from the " << camera << " camera at " << fps_text(fps)
+            << " fps into " << target.string() << " (replay reached the run's state " << hash_of(report) << ")\n";
+  return 0;
+}
+
+}  // namespace
+
+int review_session(const ReviewJob& job) {
+  const fs::path run = job.run_dir;
+  if (!fs::is_directory(run)) throw io::InputError(job.run_dir + ": no such run directory");
+  const json report = read_json(run / "report.json");
+  if (!job.camera.empty() || job.fps > 0.0) {
+    const int code = rerender(job, run, report);
+    if (code != 0) return code;
+  }
+  const std::vector<FrameSet> sets = find_frame_sets(run, report);
+  io::write_text_atomically((run / "review.html").string(), render_review_html(report, sets));
+  std::cout << "wrote " << (run / "review.html").string();
+  if (!sets.empty()) {
+    // The sheet of the newest set asked for, else the run's own recording.
+    const FrameSet& shown = sets.back();
+    const io::RgbImage sheet = contact_sheet(frame_files(run / shown.dir));
+    io::write_png_rgb8((run / "contact_sheet.png").string(), sheet);
+    std::cout << " and " << (run / "contact_sheet.png").string() << " (" << shown.label << ")";
+  }
+  std::cout << "; " << sets.size() << " recording(s)\n";
+  return 0;
+}
+
+}  // namespace skidsim::apps

@@ -1,0 +1,26 @@
+// `skidsim review RUN_DIR`: the review page (review.html) and a contact
+// sheet (contact_sheet.png) of a run directory. With --camera or --fps it
+// first renders the session again: the run's session.lcmlog replayed
+// through the simulator (deterministic, so the same session: the replay's
+// final state hash must equal the run's, or nothing is kept) with frames
+// from that camera at that rate, into RUN_DIR/frames_<camera>_<fps>fps.
+#pragma once
+
+#include <string>
+
+namespace skidsim::apps {
+
+struct ReviewJob {
+  std::string run_dir;
+  std::string camera;             // re-render from this camera (cab, chase, aerial, fixed)
+  double fps = 0.0;               // re-render at this rate; 0: the run's (or the exercise's)
+  int width = 0, height = 0;      // re-render size; 0: the exercise's
+  std::string backend = "auto";   // auto, egl, osmesa
+  std::string exercise_path;      // empty: the one report.json names
+};
+
+// 0 when the page was written, 1 when a re-render diverged from the run,
+// 2 for bad input (a run directory without report.json, a bad camera).
+int review_session(const ReviewJob& job);
+
+}  // namespace skidsim::apps

@@ -1,0 +1,167 @@
+// skidsim review: the review page in a real browser (headless Chromium,
+// installed by the setup step): it loads without script errors, the
+// scrubber moves the frame and every plot's marker together; the contact
+// sheet; re-rendering a session from another camera by replaying its log.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "io/png_image.h"
+#include "tests/app_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using skidsim::testing::run_command;
+using skidsim::testing::run_skidsim;
+
+const std::string kScenario = std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.xml";
+const std::string kScript = std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.operator.xml";
+
+std::string chromium() {
+  for (const char* name : {"chromium-headless-shell", "chromium"}) {
+    const auto r = run_command(std::string("command -v ") + name);
+    if (r.exit_code == 0) return r.output.substr(0, r.output.find('\n'));
+  }
+  return "";
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Page {
+  std::string dom, log;
+};
+
+// The page's DOM after its scripts ran, and the browser's log.
+Page open_page(const std::string& browser, const fs::path& html, const std::string& fragment, const fs::path& work) {
+  const fs::path dom = work / "dom.html", log = work / "chromium.log";
+  const std::string cmd = "{ timeout 120 " + browser + " --no-sandbox --disable-gpu --user-data-dir=" + (work / "profile").string() +
+                          " --enable-logging=stderr --v=0 --virtual-time-budget=2000 --dump-dom 'file://" + html.string() +
+                          fragment + "' > " + dom.string() + " 2> " + log.string() + "; }";
+  const auto r = run_command(cmd);
+  EXPECT_EQ(r.exit_code, 0) << r.output << slurp(log);
+  return {slurp(dom), slurp(log)};
+}
+
+std::vector<double> marker_positions(const std::string& dom) {
+  std::vector<double> xs;
+  const std::regex line("<line ([^>]*)>"), x1("x1=\"([-0-9.]+)\"");
+  for (auto it = std::sregex_iterator(dom.begin(), dom.end(), line); it != std::sregex_iterator(); ++it) {
+    const std::string attrs = (*it)[1];
+    std::smatch m;
+    if (attrs.find("class=\"marker\"") != std::string::npos && std::regex_search(attrs, m, x1)) xs.push_back(std::stod(m[1]));
+  }
+  return xs;
+}
+
+std::string attribute(const std::string& dom, const std::string& pattern) {
+  std::smatch m;
+  return std::regex_search(dom, m, std::regex(pattern)) ? std::string(m[1]) : "";
+}
+
+TEST(SkidsimReview, PageWorksInABrowserAndReRendersFromAnotherCamera) {
+  const std::string browser = chromium();
+  ASSERT_FALSE(browser.empty()) << "headless Chromium is needed (scripts/setup.sh installs chromium-headless-shell)";
+  const fs::path run = fs::temp_directory_path() / "skidsim_review_run";
+  const fs::path work = fs::temp_directory_path() / "skidsim_review_browser";
+  fs::remove_all(run);
+  fs::remove_all(work);
+  fs::create_directories(work);
+  ASSERT_EQ(run_skidsim("run " + kScenario + " --script " + kScript +
+                        " --max-s 6 --record --frame-width 160 --frame-height 90 --render-backend osmesa --out " + run.string())
+                .exit_code,
+            0);
+  const auto r = run_skidsim("review " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path html = run / "review.html";
+  ASSERT_TRUE(fs::exists(html));
+
+  // The contact sheet: 12 of the 60 frames, 4 across, 320 px thumbnails.
+  const skidsim::io::RgbImage sheet = skidsim::io::read_png_rgb8((run / "contact_sheet.png").string());
+  EXPECT_EQ(sheet.width, 6 + 4 * (320 + 6));
+  EXPECT_EQ(sheet.height, 6 + 3 * (180 + 5 + 6));
+
+  // The scrubber at 0 s, then moved (review.html#t=...: through its input
+  // handler) to 4.3 s: frame 43 shows and every marker moves with it.
+  const Page start = open_page(browser, html, "#t=0", work);
+  const Page moved = open_page(browser, html, "#t=4.3", work);
+  for (const Page* p : {&start, &moved}) {
+    EXPECT_NE(p->dom.find("<ul id=\"errors\"></ul>"), std::string::npos) << "script errors:\n" << p->dom;
+    EXPECT_EQ(p->log.find("Uncaught"), std::string::npos) << p->log;
+    EXPECT_EQ(p->log.find("CONSOLE"), std::string::npos) << p->log;
+  }
+  EXPECT_EQ(attribute(start.dom, "id=\"frame\"[^>]*src=\"([^\"]+)\""), "frames/frame_000000.png");
+  EXPECT_EQ(attribute(moved.dom, "id=\"frame\"[^>]*src=\"([^\"]+)\""), "frames/frame_000043.png");
+  EXPECT_EQ(attribute(moved.dom, "data-time=\"([^\"]+)\""), "4.300");
+  const std::vector<double> x0 = marker_positions(start.dom), x1 = marker_positions(moved.dom);
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(run / "report.json"));
+  ASSERT_EQ(x1.size(), report["timeline"].size() - 1) << "a marker on each plot (all series but t_s)";
+  ASSERT_EQ(x0.size(), x1.size());
+  for (std::size_t k = 0; k < x1.size(); ++k) {
+    EXPECT_DOUBLE_EQ(x1[k], x1[0]) << "the markers move together";
+    EXPECT_GT(x1[k], x0[k] + 100.0) << "4.3 s of 6 s is well right of the start";
+  }
+  // A screenshot: the page drawn, frame and plots (not blank).
+  const fs::path shot = run / "review_screenshot.png";
+  ASSERT_EQ(run_command("timeout 120 " + browser + " --no-sandbox --disable-gpu --user-data-dir=" + (work / "profile").string() +
+                        " --window-size=1280,1000 --virtual-time-budget=2000 --screenshot=" + shot.string() + " 'file://" +
+                        html.string() + "#t=4.3'")
+                .exit_code,
+            0);
+  const skidsim::io::RgbImage screenshot = skidsim::io::read_png_rgb8(shot.string());
+  std::set<std::uint32_t> colours;
+  for (std::size_t k = 0; k < screenshot.rgb.size(); k += 3)
+    colours.insert(static_cast<std::uint32_t>(screenshot.rgb[k]) << 16 | static_cast<std::uint32_t>(screenshot.rgb[k + 1]) << 8 |
+                   screenshot.rgb[k + 2]);
+  EXPECT_GT(colours.size(), 200u);
+
+  // Re-rendered from above at 5 fps by replaying the log: the same session
+  // (same final state), 30 frames, offered on the page beside the chase set.
+  const auto again = run_skidsim("review " + run.string() + " --camera aerial --fps 5 --width 160 --height 90 --backend osmesa");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  const fs::path aerial = run / "frames_aerial_5fps";
+  const nlohmann::json meta = nlohmann::json::parse(std::ifstream(aerial / "frames.json"));
+  EXPECT_EQ(meta["frames"], 30);
+  EXPECT_EQ(meta["replayed_hash"], report["final_state_hash"]);
+  EXPECT_TRUE(fs::exists(aerial / "frame_000029.png"));
+  EXPECT_NE(skidsim::io::read_png_rgb8((aerial / "frame_000010.png").string()).rgb,
+            skidsim::io::read_png_rgb8((run / "frames" / "frame_000020.png").string()).rgb)
+      << "another camera, another picture";
+  EXPECT_NE(slurp(html).find("frames_aerial_5fps"), std::string::npos);
+  EXPECT_FALSE(fs::exists(run / ".review_replay"));
+
+  // A report whose state the replay does not reach: refused, nothing kept.
+  nlohmann::json forged = report;
+  forged["final_state_hash"] = "0000000000000000";
+  std::ofstream(run / "report.json") << forged.dump();
+  const auto diverged = run_skidsim("review " + run.string() + " --camera cab --fps 2 --width 160 --height 90 --backend osmesa");
+  EXPECT_EQ(diverged.exit_code, 1) << diverged.output;
+  EXPECT_NE(diverged.output.find("not the same session"), std::string::npos) << diverged.output;
+  EXPECT_FALSE(fs::exists(run / "frames_cab_2fps"));
+}
+
+TEST(SkidsimReview, BadRunDirectoriesAndCamerasAreRefused) {
+  const fs::path none = fs::temp_directory_path() / "skidsim_review_none";
+  fs::remove_all(none);
+  auto r = run_skidsim("review " + none.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("no such run directory"), std::string::npos) << r.output;
+  fs::create_directories(none);
+  std::ofstream(none / "report.json") << "{ not json";
+  r = run_skidsim("review " + none.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("report.json"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(none / "review.html"));
+}
+
+}  // namespace
