@@ -215,6 +215,7 @@ int run_session(const RunJob& job) {
   // recorder's thread.
   std::unique_ptr<FrameRecorder> recorder;
   render::Scene scene;
+  SceneHistory scene_history;
   const std::string camera_name = job.camera.empty() ? ex.recording.camera : job.camera;
   const double fps = job.frame_fps > 0.0 ? job.frame_fps : ex.recording.fps;
   const int fw = job.frame_width > 0 ? job.frame_width : ex.recording.width;
@@ -232,6 +233,7 @@ int run_session(const RunJob& job) {
     }
     std::filesystem::create_directories(run_dir.staging() / "frames");
     scene = static_scene(ex, *world);
+    if (world->terrain()) world->terrain()->record_flow(true);  // for the sand's moving texture; the state is untouched
     recorder = std::make_unique<FrameRecorder>((run_dir.staging() / "frames").string(), fw, fh, job.render_backend);
   }
   const double limit_s = job.max_s > 0.0 ? job.max_s : ex.time_limit_s;
@@ -332,7 +334,7 @@ int run_session(const RunJob& job) {
       send_events(step, t);
       if (tiles && step % kStepsPerTiles == 0) send_tiles(step, t);
       if (recorder && t >= next_frame_s - 1e-9) {
-        update_scene(*world, scene);
+        update_scene(*world, scene, &scene_history);
         recorder->submit(scene, exercise_camera(camera_name, ex, *world));
         next_frame_s += 1.0 / fps;
       }

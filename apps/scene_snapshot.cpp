@@ -154,7 +154,8 @@ render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
   return s;
 }
 
-void update_scene(const engine::World& world, render::Scene& s) {
+void update_scene(const engine::World& world, render::Scene& s, SceneHistory* history) {
+  s.time_s = world.time_s();
   std::size_t k = 0;
   for_each_machine_part(world.loader(), [&](const vehicle::VisualMesh&, const Eigen::Affine3d& pose, const Eigen::Vector3f&) {
     s.instances[k++].pose = pose;
@@ -166,6 +167,38 @@ void update_scene(const engine::World& world, render::Scene& s) {
   }
   if (const terrain::BodyAutomaton* b = world.bucket_material()) s.fields.push_back(field_of(b->grid(), b->pose(), true));
   for (int t = 0; t < world.tray_count(); ++t) s.fields.push_back(field_of(world.tray(t).grid(), world.tray(t).pose(), true));
+  s.particles.clear();
+  if (history == nullptr) {
+    DustSystem().append_particles(world, s.particles);  // the falling parcels alone
+    return;
+  }
+  const double dt = history->time_s >= 0.0 ? world.time_s() - history->time_s : 0.0;
+  const std::vector<Eigen::Vector2f>* flow = nullptr;
+  const terrain::GranularGrid* g = world.terrain();
+  if (g && !g->flow_record_x().empty()) {
+    const std::vector<std::int64_t>&x = g->flow_record_x(), &y = g->flow_record_y();
+    if (history->flow_x.size() != x.size() || !(dt > 0.0)) {
+      history->flow_x = x;
+      history->flow_y = y;
+    } else {
+      std::vector<Eigen::Vector2f>& v = s.fields.front().flow_m_s;
+      v.assign(x.size(), Eigen::Vector2f::Zero());
+      const double scale = terrain::kHeightQuantumM * g->cell_size_m() / (kFlowingLayerM * dt);
+      for (std::size_t c = 0; c < x.size(); ++c) {
+        if (x[c] == history->flow_x[c] && y[c] == history->flow_y[c]) continue;
+        Eigen::Vector2f u(static_cast<float>(static_cast<double>(x[c] - history->flow_x[c]) * scale),
+                          static_cast<float>(static_cast<double>(y[c] - history->flow_y[c]) * scale));
+        if (u.norm() > 3.0f) u *= 3.0f / u.norm();  // what the eye can follow
+        v[c] = u;
+      }
+      history->flow_x = x;
+      history->flow_y = y;
+      flow = &v;
+    }
+  }
+  history->dust.advance(world, flow, dt);
+  history->time_s = world.time_s();
+  history->dust.append_particles(world, s.particles);
 }
 
 render::Camera exercise_camera(const std::string& name, const io::Exercise& ex, const engine::World& world) {

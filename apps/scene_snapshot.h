@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "apps/scene_dust.h"
 #include "engine/world.h"
 #include "io/exercise.h"
 #include "render/scene.h"
@@ -16,9 +17,25 @@ namespace skidsim::apps {
 // the machine's meshes: built once per session.
 render::Scene static_scene(const io::Exercise& exercise, const engine::World& world);
 
+// What a recording carries from one frame to the next: the soil's flow
+// record at the last frame (flow speeds come from its change) and the dust.
+struct SceneHistory {
+  double time_s = -1.0;
+  std::vector<std::int64_t> flow_x, flow_y;
+  DustSystem dust;
+};
+
+// The speed of the ground's sliding surface layer per cell (m/s) from the
+// quanta its avalanches sent across each face in dt_s (the grid's flow
+// record): the volume flux per unit width over the flowing layer's depth.
+// The depth of a sliding sand layer, a few dozen grains:
+inline constexpr double kFlowingLayerM = 0.03;
+
 // Updates `scene` (from static_scene) to the world's present state: the
-// machine's poses, the soil and the material on bodies.
-void update_scene(const engine::World& world, render::Scene& scene);
+// machine's poses, the soil and the material on bodies, the falling
+// parcels; with a history (a recording: frames in time order), the soil's
+// flow for its moving texture and the dust.
+void update_scene(const engine::World& world, render::Scene& scene, SceneHistory* history = nullptr);
 
 // cab, chase, aerial or fixed (EXERCISES.md); std::invalid_argument for
 // another name.

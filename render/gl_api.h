@@ -70,7 +70,11 @@ namespace skidsim::render {
   X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                            \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                        \
-  X(PFNGLDRAWELEMENTSPROC, DrawElements)
+  X(PFNGLDRAWELEMENTSPROC, DrawElements)                                              \
+  X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                  \
+  X(PFNGLBLENDFUNCPROC, BlendFunc)                                                    \
+  X(PFNGLDEPTHMASKPROC, DepthMask)                                                    \
+  X(PFNGLUNIFORM2FVPROC, Uniform2fv)
 
 struct GlApi {
 #define SKIDSIM_GL_MEMBER(type, name) type name = nullptr;

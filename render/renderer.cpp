@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
+#include "render/particles_pass.h"
 #include "render/terrain_mesh.h"
 
 namespace skidsim::render {
@@ -15,17 +17,29 @@ constexpr double kPi = 3.14159265358979323846;
 const char* const kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
+layout(location = 2) in vec4 flow_a;  // velocity (m/s), layer 0's displacement (m)
+layout(location = 3) in vec4 flow_b;  // layers 1 and 2's displacements (m)
 uniform mat4 model;
 uniform mat4 view_projection;
 uniform mat4 sun_view_projection;
+uniform float shadow_offset_m;
 out vec3 world_position;
 out vec3 world_normal;
 out vec4 sun_position;
+out vec2 flow_velocity;
+out vec2 displacement[3];
 void main() {
   vec4 p = model * vec4(position, 1.0);
   world_position = p.xyz;
+  flow_velocity = flow_a.xy;
+  displacement[0] = flow_a.zw;
+  displacement[1] = flow_b.xy;
+  displacement[2] = flow_b.zw;
   world_normal = mat3(model) * normal;  // rigid poses: no scaling
-  sun_position = sun_view_projection * p;
+  // Looked up in the sun's map from a little off the surface (normal
+  // offset, about a texel and a half): no self-shadowing speckle where the
+  // sun grazes a face.
+  sun_position = sun_view_projection * vec4(p.xyz + normalize(world_normal) * shadow_offset_m, 1.0);
   gl_Position = view_projection * p;
 }
 )";
@@ -34,6 +48,9 @@ const char* const kFragmentShader = R"(#version 330 core
 in vec3 world_position;
 in vec3 world_normal;
 in vec4 sun_position;
+in vec2 flow_velocity;
+in vec2 displacement[3];
+uniform float time_s;
 uniform vec3 colour;
 uniform vec3 to_sun;
 uniform vec3 sky;
@@ -42,6 +59,19 @@ uniform float grain;  // 1 for sand: a pattern fixed to the world
 uniform sampler2D sun_depth;
 out vec4 frag_colour;
 float hash(vec2 p) { return fract(sin(dot(p, vec2(127.1, 311.7))) * 43758.5453); }
+float sand_grain(vec2 p) { return hash(floor(p * 40.0)) * 0.6 + hash(floor(p * 9.0)) * 0.4; }
+// Sliding sand (thesis 8.2.3): three copies of the texture, each moved
+// along with the flow and put back (displacement zero) once every period
+// tau, at the instant its weight is zero; the weights, a third of a period
+// apart, always sum to one. The copies share one base coordinate, so sand
+// at rest (no displacement) looks the same whatever the weights.
+float flowing_grain(vec2 p) {
+  const float sigma = 0.3, tau = 0.9, two_pi = 6.28318530718;
+  float w0 = (1.0 - cos(two_pi * (time_s + sigma) / tau)) / 3.0;
+  float w1 = (1.0 - cos(two_pi * time_s / tau)) / 3.0;
+  float w2 = (1.0 - cos(two_pi * (time_s - sigma) / tau)) / 3.0;
+  return w0 * sand_grain(p - displacement[0]) + w1 * sand_grain(p - displacement[1]) + w2 * sand_grain(p - displacement[2]);
+}
 float lit_by_sun(vec3 n) {
   vec3 p = sun_position.xyz / sun_position.w * 0.5 + 0.5;
   if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
@@ -55,10 +85,15 @@ float lit_by_sun(vec3 n) {
 }
 void main() {
   vec3 n = normalize(world_normal);
-  if (!gl_FrontFacing) n = -n;
+  // A surface seen from behind (a height field from below) is lit as its
+  // other side; by the normal, not gl_FrontFacing, so a mesh's winding
+  // does not matter.
+  if (dot(n, eye - world_position) < 0.0) n = -n;
   vec3 base = colour;
   if (grain > 0.5) {
-    float g = hash(floor(world_position.xy * 40.0)) * 0.6 + hash(floor(world_position.xy * 9.0)) * 0.4;
+    bool moved = dot(flow_velocity, flow_velocity) + dot(displacement[0], displacement[0]) +
+                 dot(displacement[1], displacement[1]) + dot(displacement[2], displacement[2]) > 0.0;
+    float g = moved ? flowing_grain(world_position.xy) : sand_grain(world_position.xy);
     base *= 0.88 + 0.2 * g;
   }
   float sun = max(dot(n, to_sun), 0.0) * lit_by_sun(n);
@@ -185,6 +220,12 @@ struct FieldCache {
   std::size_t skirt_vertices = 0;
   Mesh mesh;
   GpuMesh gpu;
+  // The flow texture's state (8.2): per vertex the velocity and the three
+  // layers' displacements, 8 floats, in a buffer of their own.
+  GLuint flow_vbo = 0;
+  std::vector<float> flow;
+  double flow_time_s = std::numeric_limits<double>::quiet_NaN();
+  bool flow_on_gpu_nonzero = false;
 };
 
 struct Renderer::Gpu {
@@ -193,6 +234,7 @@ struct Renderer::Gpu {
   std::vector<GpuMesh> meshes;     // by Scene::meshes index
   std::vector<FieldCache> fields;  // by Scene::fields index
   std::vector<float> interleaved;  // scratch
+  std::unique_ptr<ParticlesPass> particles;
 };
 
 namespace {
@@ -238,6 +280,10 @@ void update_field(const GlApi& gl, const HeightField& f, FieldCache& c, std::vec
   if (!c.gpu.vao || c.nx != f.nx || c.ny != f.ny || c.shows != f.shows || c.skirt_vertices != skirt_vertex_count(f)) {
     build_terrain_mesh(f, c.mesh);
     upload(gl, c.mesh, c.gpu, interleaved);
+    if (c.flow_vbo) {  // sized for the old mesh: advance_flow makes it anew
+      gl.DeleteBuffers(1, &c.flow_vbo);
+      c.flow_vbo = 0;
+    }
     c.nx = f.nx;
     c.ny = f.ny;
     c.height_m = f.height_m;
@@ -281,6 +327,61 @@ void update_field(const GlApi& gl, const HeightField& f, FieldCache& c, std::vec
   }
 }
 
+// Moves each layer's displacement on by velocity x time, and puts a layer
+// back where its weight passes zero (t = t0 + k tau), moved on since then.
+constexpr double kFlowPhaseS = 0.3, kFlowPeriodS = 0.9;  // sigma and tau of 8.2.3
+
+void advance_flow(const GlApi& gl, const HeightField& f, FieldCache& c, double t_s) {
+  const std::size_t n = c.mesh.positions_m.size(), cells = static_cast<std::size_t>(f.nx) * f.ny;
+  if (!c.flow_vbo) {
+    gl.GenBuffers(1, &c.flow_vbo);
+    c.flow.assign(8 * n, 0.0f);
+    gl.BindVertexArray(c.gpu.vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, c.flow_vbo);
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(c.flow.size() * sizeof(float)), c.flow.data(), GL_DYNAMIC_DRAW);
+    gl.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, 8 * sizeof(float), nullptr);
+    gl.EnableVertexAttribArray(2);
+    gl.VertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 8 * sizeof(float), reinterpret_cast<void*>(4 * sizeof(float)));
+    gl.EnableVertexAttribArray(3);
+    c.flow_time_s = t_s;
+  }
+  double dt = t_s - c.flow_time_s;
+  if (!(dt >= 0.0 && dt < 1.0)) {  // a jump in time: start afresh
+    std::fill(c.flow.begin(), c.flow.end(), 0.0f);
+    dt = 0.0;
+  }
+  bool any = false;
+  const bool has_flow = f.flow_m_s.size() == cells;
+  for (std::size_t v = 0; v < cells; ++v) {
+    float* x = &c.flow[8 * v];
+    const Eigen::Vector2f vel = has_flow ? f.flow_m_s[v] : Eigen::Vector2f::Zero();
+    x[0] = vel.x();
+    x[1] = vel.y();
+    for (int layer = 0; layer < 3; ++layer) {
+      x[2 + 2 * layer] += static_cast<float>(vel.x() * dt);
+      x[3 + 2 * layer] += static_cast<float>(vel.y() * dt);
+    }
+    any = any || x[0] != 0.0f || x[1] != 0.0f || x[2] != 0.0f || x[3] != 0.0f || x[4] != 0.0f || x[5] != 0.0f ||
+          x[6] != 0.0f || x[7] != 0.0f;
+  }
+  for (int layer = 0; layer < 3; ++layer) {
+    const double t0 = (layer - 1) * kFlowPhaseS;
+    const double k_now = std::floor((t_s - t0) / kFlowPeriodS);
+    if (k_now <= std::floor((c.flow_time_s - t0) / kFlowPeriodS) && dt > 0.0) continue;
+    const auto since = static_cast<float>(t_s - (t0 + k_now * kFlowPeriodS));
+    for (std::size_t v = 0; v < cells; ++v) {
+      c.flow[8 * v + 2 + 2 * layer] = c.flow[8 * v] * since;
+      c.flow[8 * v + 3 + 2 * layer] = c.flow[8 * v + 1] * since;
+    }
+  }
+  c.flow_time_s = t_s;
+  if (any || c.flow_on_gpu_nonzero) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, c.flow_vbo);
+    gl.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(c.flow.size() * sizeof(float)), c.flow.data());
+  }
+  c.flow_on_gpu_nonzero = any;
+}
+
 void release(const GlApi& gl, GpuMesh& g) {
   if (!g.vao) return;
   gl.DeleteVertexArrays(1, &g.vao);
@@ -318,6 +419,7 @@ Renderer::Renderer(OffscreenContext& context, int shadow_map_size)
   gl.ReadBuffer(GL_NONE);
   if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("render: the shadow map's framebuffer is incomplete");
+  gpu_->particles = std::make_unique<ParticlesPass>(gl);
   context_.make_current();  // back to the frame's framebuffer
   check_gl(gl, "setting up the renderer");
 }
@@ -325,8 +427,12 @@ Renderer::Renderer(OffscreenContext& context, int shadow_map_size)
 Renderer::~Renderer() {
   context_.make_current();
   const GlApi& gl = context_.gl();
+  gpu_->particles.reset();
   for (GpuMesh& g : gpu_->meshes) release(gl, g);
-  for (FieldCache& c : gpu_->fields) release(gl, c.gpu);
+  for (FieldCache& c : gpu_->fields) {
+    release(gl, c.gpu);
+    if (c.flow_vbo) gl.DeleteBuffers(1, &c.flow_vbo);
+  }
   gl.DeleteFramebuffers(1, &gpu_->shadow_fbo);
   gl.DeleteTextures(1, &gpu_->shadow_texture);
   gl.DeleteProgram(gpu_->program);
@@ -343,7 +449,10 @@ void Renderer::render(const Scene& scene, const Camera& camera) {
     if (g.meshes[k].vertices != scene.meshes[k].positions_m.size() || g.meshes[k].indices != scene.meshes[k].indices.size())
       upload(gl, scene.meshes[k], g.meshes[k], g.interleaved);
   if (g.fields.size() < scene.fields.size()) g.fields.resize(scene.fields.size());
-  for (std::size_t k = 0; k < scene.fields.size(); ++k) update_field(gl, scene.fields[k], g.fields[k], g.interleaved);
+  for (std::size_t k = 0; k < scene.fields.size(); ++k) {
+    update_field(gl, scene.fields[k], g.fields[k], g.interleaved);
+    advance_flow(gl, scene.fields[k], g.fields[k], scene.time_s);
+  }
   const auto draw_all = [&](GLint model_location, GLint colour_location, GLint grain_location) {
     for (const MeshInstance& m : scene.instances) {
       if (m.mesh < 0 || static_cast<std::size_t>(m.mesh) >= scene.meshes.size()) continue;
@@ -383,16 +492,21 @@ void Renderer::render(const Scene& scene, const Camera& camera) {
       look_at(camera.eye_m, camera.target_m, camera.up);
   gl.UniformMatrix4fv(gl.GetUniformLocation(g.program, "view_projection"), 1, GL_FALSE, view_projection.data());
   gl.UniformMatrix4fv(gl.GetUniformLocation(g.program, "sun_view_projection"), 1, GL_FALSE, sun.data());
+  const double texel_m = scene.shadow_bounds_m.sizes().head<2>().maxCoeff() / shadow_size_;
+  gl.Uniform1f(gl.GetUniformLocation(g.program, "shadow_offset_m"), static_cast<float>(1.5 * texel_m));
   const Eigen::Vector3f to_sun = (-scene.sun_direction.normalized()).cast<float>();
   gl.Uniform3fv(gl.GetUniformLocation(g.program, "to_sun"), 1, to_sun.data());
   gl.Uniform3fv(gl.GetUniformLocation(g.program, "sky"), 1, scene.sky.data());
   const Eigen::Vector3f eye = camera.eye_m.cast<float>();
   gl.Uniform3fv(gl.GetUniformLocation(g.program, "eye"), 1, eye.data());
+  gl.Uniform1f(gl.GetUniformLocation(g.program, "time_s"), static_cast<float>(scene.time_s));
   gl.ActiveTexture(GL_TEXTURE0);
   gl.BindTexture(GL_TEXTURE_2D, g.shadow_texture);
   gl.Uniform1i(gl.GetUniformLocation(g.program, "sun_depth"), 0);
   draw_all(gl.GetUniformLocation(g.program, "model"), gl.GetUniformLocation(g.program, "colour"),
            gl.GetUniformLocation(g.program, "grain"));
+  // 3. Dust and falling sand, over it all.
+  g.particles->draw(scene.particles, camera, view_projection, scene.sky, to_sun);
   gl.Finish();
   check_gl(gl, "rendering a frame");
 }

@@ -36,7 +36,20 @@ struct HeightField {
   // A skirt: walls down from the field's four edges to this height (field
   // frame), so that a soil layer seen from its side is closed. NaN: none.
   float skirt_bottom_m = std::numeric_limits<float>::quiet_NaN();
+  // Speed of the sliding surface layer at each cell (field frame, m/s);
+  // empty: at rest. Drawn as sand whose texture moves with it (8.2).
+  std::vector<Eigen::Vector2f> flow_m_s;
   Eigen::Vector3f colour = Eigen::Vector3f(0.76f, 0.62f, 0.40f);  // dry sand
+};
+
+// A soft, camera-facing disc of dust or falling sand (8.3), its shape one
+// of the renderer's turbulence puffs.
+struct Particle {
+  Eigen::Vector3f position_m = Eigen::Vector3f::Zero();
+  float radius_m = 0.1f;
+  float opacity = 0.5f;  // 0..1, at the puff's densest
+  float shape = 0.0f;    // 0..1: which puff
+  Eigen::Vector3f colour = Eigen::Vector3f(0.80f, 0.70f, 0.55f);
 };
 
 struct Camera {
@@ -46,9 +59,11 @@ struct Camera {
 };
 
 struct Scene {
+  double time_s = 0.0;  // simulated time: drives the flow texture's phases
   std::vector<Mesh> meshes;
   std::vector<MeshInstance> instances;
   std::vector<HeightField> fields;
+  std::vector<Particle> particles;  // drawn last, blended, casting no shadow
   Eigen::Vector3d sun_direction = Eigen::Vector3d(-0.4, -0.3, -1.0);  // the way the light travels
   Eigen::Vector3f sky = Eigen::Vector3f(0.62f, 0.74f, 0.88f);
   // Where shadows are cast: the part of the world the sun's depth map covers.

@@ -347,6 +347,11 @@ __attribute__((always_inline)) inline std::array<std::int32_t, 4> GranularGrid::
           static_cast<std::int32_t>(out[3])};
 }
 
+void GranularGrid::record_flow(bool on) {
+  flow_x_.assign(on ? quanta_.size() : 0, 0);
+  flow_y_.assign(on ? quanta_.size() : 0, 0);
+}
+
 void GranularGrid::sweep() {
   // A tilted grid's faces need the world slopes (tilt_faces): the sparse
   // path only (such grids are small).
@@ -407,6 +412,10 @@ void GranularGrid::sweep_sparse() {
     const std::uint32_t c = flux.cell;
     quanta_[c] -= total;
     mark_changed(c);
+    if (!flow_x_.empty()) {
+      flow_x_[c] += std::int64_t{flux.out[0]} - flux.out[1];
+      flow_y_[c] += std::int64_t{flux.out[2]} - flux.out[3];
+    }
     const std::uint8_t f = flags_[c];
     for (int d = 0; d < 4; ++d) {
       if (flux.out[d] == 0) continue;
@@ -463,8 +472,14 @@ void GranularGrid::gather_row(int j, const std::array<std::int32_t, 4>* below,
   std::uint8_t* __restrict flags = flags_.data() + row;
   std::int64_t toppled = 0, moved = 0;
   std::size_t changed_count = 0;
+  std::int64_t* flow_x = flow_x_.empty() ? nullptr : flow_x_.data() + row;
+  std::int64_t* flow_y = flow_y_.empty() ? nullptr : flow_y_.data() + row;
   const auto gather = [&](int i, std::int64_t received) {
     const std::int64_t sent = std::int64_t{here[i][0]} + here[i][1] + here[i][2] + here[i][3];
+    if (flow_x) {
+      flow_x[i] += std::int64_t{here[i][0]} - here[i][1];
+      flow_y[i] += std::int64_t{here[i][2]} - here[i][3];
+    }
     toppled += sent != 0;
     moved += sent;
     const bool changed = (sent != 0) | (received != 0);

@@ -178,6 +178,15 @@ class GranularGrid {
   // state is valid while this is unchanged.
   std::uint64_t revision() const { return revision_; }
 
+  // Flow record, for drawing the sand that slides (thesis 8.2, the sum
+  // over a cell's flows F_a E_a): per cell, the quanta its avalanche fluxes
+  // sent along +x and +y (those sent along -x, -y count negative), summed
+  // since record_flow(true). Off (empty) unless asked for; it never changes
+  // the state. Material pushed by bodies is not avalanche flow.
+  void record_flow(bool on);
+  const std::vector<std::int64_t>& flow_record_x() const { return flow_x_; }
+  const std::vector<std::int64_t>& flow_record_y() const { return flow_y_; }
+
   // --- Soil-body interaction (terrain/soil_contact.h drives these) ---
   // A cell a body covers completely: no avalanche flux crosses its faces
   // (the body is in the way), in either direction.
@@ -303,6 +312,7 @@ class GranularGrid {
   std::vector<double> surface_m_;  // base + material, kept in step with both
   std::vector<std::uint8_t> flags_;
   std::vector<std::int64_t> compacted_;  // allocated by the first compaction
+  std::vector<std::int64_t> flow_x_, flow_y_;  // record_flow
   std::int64_t covered_count_ = 0;      // cells with kCovered: zero keeps the sweep's fast path
   std::vector<std::uint32_t> pending_;  // cells to examine in the next sweep
   std::vector<std::uint32_t> current_;  // cells examined in this sweep

@@ -7,7 +7,9 @@
 // left out of the active set really has nothing to do.)
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
+#include <algorithm>
 #include <vector>
 
 #include "tests/test_support.h"
@@ -30,7 +32,7 @@ class Random {
 };
 
 TEST(SweepEquivalence, SparseDenseAutoAndShuffledAgreeOnRandomSites) {
-  int trials_with_flow = 0;
+  int trials_with_flow = 0, trials_with_recorded_flow_x = 0;
   for (int trial = 0; trial < 300; ++trial) {
     Random rng(static_cast<std::uint64_t>(trial) + 1);
     GridSpec spec;
@@ -47,6 +49,10 @@ TEST(SweepEquivalence, SparseDenseAutoAndShuffledAgreeOnRandomSites) {
       g.back()->set_sweep_mode(mode);
     }
     g[3]->set_sweep_shuffle_seed(static_cast<std::uint64_t>(trial) + 99);
+    // The flow record (for rendering) is kept by the sparse and the dense
+    // grid: it must not change their state, and both must record the same.
+    g[0]->record_flow(true);
+    g[1]->record_flow(true);
     const int base_kind = rng.integer(0, 2);
     const double tilt = rng.uniform(-1.5, 1.5);
     for (int j = 0; j < spec.ny; ++j)
@@ -83,12 +89,37 @@ TEST(SweepEquivalence, SparseDenseAutoAndShuffledAgreeOnRandomSites) {
             ASSERT_GE(g[k]->material_quanta(ii, jj), 0);
           }
         ASSERT_EQ(g[0]->ledger().off_site, g[k]->ledger().off_site) << "trial " << trial;
+        if (k == 1) {
+          ASSERT_EQ(g[0]->flow_record_x(), g[1]->flow_record_x()) << "trial " << trial << " step " << s;
+          ASSERT_EQ(g[0]->flow_record_y(), g[1]->flow_record_y()) << "trial " << trial << " step " << s;
+        }
         ASSERT_TRUE(g[k]->ledger().balanced());
       }
     }
     trials_with_flow += g[0]->ledger().off_site_total() > 0 || !g[0]->at_rest();
+    for (const std::int64_t f : g[0]->flow_record_x()) trials_with_recorded_flow_x += f != 0;
   }
   EXPECT_GT(trials_with_flow, 50) << "the random sites must exercise flows and open edges";
+  EXPECT_GT(trials_with_recorded_flow_x, 100) << "cells with recorded flow";
+}
+
+// A slope steeper than repose falling towards +x: the flow record points
+// down it (+x), with no net sideways flow.
+TEST(FlowRecord, PointsDownTheSlope) {
+  GridSpec spec = testing::square_spec(20, 0.05);
+  spec.ny = 6;
+  GranularGrid g(spec, SoilFlowParameters{}, testing::kDt);
+  g.record_flow(true);
+  for (int j = 0; j < spec.ny; ++j)
+    for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, j, std::max(0.0, 0.8 - 0.06 * i));
+  for (int s = 0; s < 300; ++s) g.step();
+  double along = 0.0, across = 0.0;
+  for (std::size_t c = 0; c < g.flow_record_x().size(); ++c) {
+    along += static_cast<double>(g.flow_record_x()[c]);
+    across += static_cast<double>(g.flow_record_y()[c]);
+  }
+  EXPECT_GT(along, 1e6);
+  EXPECT_LT(std::abs(across), 1e-3 * along);
 }
 
 TEST(Limits, AmountsBeyondTheGridsRangeAreRefused) {

@@ -1,0 +1,55 @@
+// Dust and falling sand in the recorded frames (thesis 8.3). The falling
+// parcels of the material exchange are drawn as they are (sand in free
+// fall, emitted where material leaves a body); dust rises where a parcel
+// lands (more and faster the higher it fell), a little where material
+// leaves a body, and where the ground's surface slides fast. Each puff is
+// carried by turbulent air (seed 001: turbulence sampled at a point that
+// drifts through the noise with time), grows and fades. Only the frames
+// see it: the simulation is not changed. Deterministic (a seeded generator).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/world.h"
+#include "render/noise.h"
+#include "render/scene.h"
+
+namespace skidsim::apps {
+
+class DustSystem {
+ public:
+  explicit DustSystem(std::uint64_t seed = 8, std::size_t capacity = 3000);
+
+  // Moves on by dt_s to the world's present: spawns (parcels landing or
+  // leaving a body, the ground's flow in m/s per cell when given), moves,
+  // grows and ages every puff.
+  void advance(const engine::World& world, const std::vector<Eigen::Vector2f>* ground_flow_m_s, double dt_s);
+
+  // Appends the dust's puffs and the falling parcels.
+  void append_particles(const engine::World& world, std::vector<render::Particle>& out) const;
+  std::size_t puffs() const { return puffs_.size(); }
+
+ private:
+  struct Puff {
+    Eigen::Vector3d position_m, velocity_m_s;
+    double age_s = 0.0, life_s = 2.0, radius_m = 0.15, opacity = 0.3;
+    float shape = 0.0f;
+  };
+  double uniform();  // 0..1
+  void spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocity, double radius_m, double opacity);
+
+  render::SolidNoise noise_;
+  std::uint64_t state_;
+  std::size_t capacity_;
+  double time_s_ = 0.0;
+  double budget_ = 0.0;  // puffs that may still start: kMaxNewPuffsPerS, a little saved up
+  std::vector<Puff> puffs_;
+};
+
+// Height of the ground (soil surface, else the firm yard at 0) below a point.
+double ground_height_m(const engine::World& world, const Eigen::Vector3d& at);
+
+}  // namespace skidsim::apps
