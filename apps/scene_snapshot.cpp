@@ -220,6 +220,9 @@ render::Camera exercise_camera(const std::string& name, const io::Exercise& ex, 
     const Eigen::Vector2d mid = 0.5 * ex.site_size_m;
     c.target_m = Eigen::Vector3d(mid.x(), mid.y(), 0.0);
     c.eye_m = c.target_m + Eigen::Vector3d(0, -0.2 * ex.site_size_m.maxCoeff(), 1.1 * ex.site_size_m.maxCoeff());
+  } else if (name == "fixed" && ex.recording.fixed_eye_m.allFinite()) {  // where the exercise put it
+    c.eye_m = ex.recording.fixed_eye_m;
+    c.target_m = ex.recording.fixed_target_m;
   } else if (name == "fixed") {  // from beyond the site's corner, at the site
     const Eigen::Vector2d mid = 0.5 * ex.site_size_m;
     c.target_m = Eigen::Vector3d(mid.x(), mid.y(), 0.0);

@@ -404,6 +404,12 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         a.fail("attribute 'camera' = \"" + rec.camera + "\": expected cab, chase, aerial or fixed");
       rec.width = static_cast<int>(a.has("width") ? a.number_in("width", 16, 8192) : rec.width);
       rec.height = static_cast<int>(a.has("height") ? a.number_in("height", 16, 8192) : rec.height);
+      if (a.has("fixed_eye") != a.has("fixed_target")) a.fail("give both fixed_eye and fixed_target, or neither");
+      if (a.has("fixed_eye")) {
+        rec.fixed_eye_m = a.vector3("fixed_eye");
+        rec.fixed_target_m = a.vector3("fixed_target");
+        if ((rec.fixed_eye_m - rec.fixed_target_m).norm() < 0.1) a.fail("fixed_eye and fixed_target are the same point");
+      }
       a.reject_unknown();
     } else {
       a.fail("unknown element (expected <site>, <machine>, <operator>, <task>, <event>, <scoring> or <record>)");

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,10 @@ struct Recording {
   double fps = 10.0;
   std::string camera = "chase";  // cab, chase, aerial, fixed
   int width = 1280, height = 720;
+  // The fixed camera, where the exercise places it (a site camera on a
+  // mast); unset (NaN): beyond the site's south-west corner, at the site.
+  Eigen::Vector3d fixed_eye_m = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d fixed_target_m = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 struct Exercise {

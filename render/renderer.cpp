@@ -77,11 +77,12 @@ float lit_by_sun(vec3 n) {
   if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
   float bias = 0.0015 + 0.003 * (1.0 - max(dot(n, to_sun), 0.0));
   vec2 texel = 1.0 / vec2(textureSize(sun_depth, 0));
+  // Percentage-closer filtering over 2 x 2 taps half a texel apart.
   float lit = 0.0;
-  for (int x = -1; x <= 1; ++x)
-    for (int y = -1; y <= 1; ++y)
-      lit += p.z - bias > texture(sun_depth, p.xy + vec2(x, y) * texel).r ? 0.0 : 1.0;
-  return lit / 9.0;
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y < 2; ++y)
+      lit += p.z - bias > texture(sun_depth, p.xy + (vec2(x, y) - 0.5) * texel).r ? 0.0 : 1.0;
+  return lit / 4.0;
 }
 void main() {
   vec3 n = normalize(world_normal);
@@ -352,6 +353,10 @@ void advance_flow(const GlApi& gl, const HeightField& f, FieldCache& c, double t
   }
   bool any = false;
   const bool has_flow = f.flow_m_s.size() == cells;
+  if (!has_flow && !c.flow_on_gpu_nonzero && dt > 0.0) {  // at rest, and all put back already
+    c.flow_time_s = t_s;
+    return;
+  }
   for (std::size_t v = 0; v < cells; ++v) {
     float* x = &c.flow[8 * v];
     const Eigen::Vector2f vel = has_flow ? f.flow_m_s[v] : Eigen::Vector2f::Zero();

@@ -3,8 +3,9 @@
 # thesis's 8 m x 8 m yard (runs/pour-demo); the loader filling its bucket
 # from a sand bank and loading a truck bed (runs/dig-demo); the default
 # exercise, pile-to-zone, with its scripted operator as a second process
-# over LCM, in lockstep (runs/session-demo); then validate the shipped
-# loader and print its figures.
+# over LCM, in lockstep, its frames recorded and its review page built
+# (runs/session-demo); then validate the shipped loader and print its
+# figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -12,6 +13,8 @@ scripts/setup.sh
 ./build/skidsim dig --out "${2:-runs/dig-demo}"
 ./build/skidsim operator scenarios/pile_to_zone.operator.xml --idle-s 5 &
 operator=$!
-./build/skidsim run scenarios/pile_to_zone.xml --mode lockstep --out "${3:-runs/session-demo}"
+./build/skidsim run scenarios/pile_to_zone.xml --mode lockstep --record --frame-width 640 --frame-height 360 \
+  --out "${3:-runs/session-demo}"
 wait "$operator" || true  # it stops when the session does
+./build/skidsim review "${3:-runs/session-demo}"
 ./build/skidsim check

@@ -71,6 +71,21 @@ TEST_F(SessionFrames, ShowTheMachineAndTheSoil) {
   EXPECT_GT(soil, 10000) << "the soil site lies ahead of it";
 }
 
+// The four cameras: the fixed one where the exercise puts it (else beyond
+// the site's corner), the others following the machine; no other name.
+TEST_F(SessionFrames, CamerasFollowTheMachineOrStandWhereTheExerciseSays) {
+  const render::Camera fixed_default = apps::exercise_camera("fixed", ex_, *world_);
+  EXPECT_LT(fixed_default.eye_m.x(), 0.0);
+  ex_.recording.fixed_eye_m = Eigen::Vector3d(2, 3, 6);
+  ex_.recording.fixed_target_m = Eigen::Vector3d(8, 9, 0);
+  const render::Camera fixed = apps::exercise_camera("fixed", ex_, *world_);
+  EXPECT_EQ(fixed.eye_m, Eigen::Vector3d(2, 3, 6));
+  EXPECT_EQ(fixed.target_m, Eigen::Vector3d(8, 9, 0));
+  const Eigen::Vector3d at = world_->loader().link_pose(0).translation();
+  for (const char* name : {"cab", "chase"}) EXPECT_LT((apps::exercise_camera(name, ex_, *world_).eye_m - at).norm(), 8.0) << name;
+  EXPECT_THROW(apps::exercise_camera("drone", ex_, *world_), std::invalid_argument);
+}
+
 // After the script's first bucket fill (about 550 kg aboard by 6 s), the
 // bucket's automaton is drawn: taking its field out of the scene changes
 // sand-coloured pixels where the load is.

@@ -94,6 +94,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"name=\"completion_time_s\"", "name=\"style_points\"", {"<metric>", "style_points", "expected one of"}},
         BadCase{"task=\"move\"", "task=\"mvoe\"", {"<event>", "mvoe", "no <task>"}},
         BadCase{"camera=\"chase\"", "camera=\"drone\"", {"<record>", "drone"}},
+        BadCase{"camera=\"chase\"", "camera=\"fixed\" fixed_eye=\"0 0 5\"", {"<record>", "both fixed_eye and fixed_target"}},
+        BadCase{"camera=\"chase\"", "camera=\"fixed\" fixed_eye=\"0 0 5\" fixed_target=\"0 0 5\"", {"<record>", "same point"}},
         BadCase{"<pile centre=\"8 10\"", "<pile centre=\"30 10\"", {"<pile>", "outside its soil region"}},
         BadCase{"  <task id=\"move\" type=\"move_material\" from=\"yard\" to=\"target\" mass_kg=\"800\"/>\n"
                 "  <event when=\"time\" at_s=\"0\" message=\"Fill the bucket at the pile and dump the sand in the marked "
