@@ -1,7 +1,15 @@
 #include "apps/frame_recorder.h"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+
 #include <cstdio>
 #include <stdexcept>
+#include <vector>
 
 #include "io/png_image.h"
 #include "render/renderer.h"
@@ -13,6 +21,14 @@ constexpr std::size_t kMaxQueued = 3;
 FrameRecorder::FrameRecorder(std::string dir, int width, int height, std::string backend)
     : dir_(std::move(dir)), backend_(std::move(backend)), width_(width), height_(height) {
   thread_ = std::thread([this] { run(); });
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return started_ || !error_.empty(); });
+  if (!started_) {
+    const std::string why = error_;
+    lock.unlock();
+    thread_.join();
+    throw std::runtime_error("recording frames: " + why);
+  }
 }
 
 FrameRecorder::~FrameRecorder() {
@@ -32,7 +48,7 @@ void FrameRecorder::submit(render::Scene scene, const render::Camera& camera) {
   changed_.notify_all();
 }
 
-void FrameRecorder::finish() {
+std::string FrameRecorder::finish() {
   {
     std::unique_lock<std::mutex> lock(mutex_);
     closing_ = true;
@@ -40,7 +56,7 @@ void FrameRecorder::finish() {
   }
   if (thread_.joinable()) thread_.join();
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!error_.empty()) throw std::runtime_error("recording frames: " + error_);
+  return error_;
 }
 
 int FrameRecorder::frames_written() const {
@@ -60,7 +76,9 @@ void FrameRecorder::run() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       renderer_ = std::string(render::backend_name(context->backend())) + " (" + context->renderer() + ")";
+      started_ = true;
     }
+    changed_.notify_all();
     io::RgbImage image;
     image.width = width_;
     image.height = height_;
@@ -87,6 +105,28 @@ void FrameRecorder::run() {
     queue_.clear();
     changed_.notify_all();
   }
+}
+
+std::string encode_video(const std::string& dir, double fps, const std::string& video_name) {
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g", fps);
+  const std::string input = dir + "/frames/frame_%06d.png", output = dir + "/" + video_name;
+  std::vector<std::string> args = {"ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-framerate", rate, "-i", input,
+                                   "-pix_fmt", "yuv420p", "-vf", "scale=trunc(iw/2)*2:trunc(ih/2)*2", output};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, "ffmpeg", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return "";  // no ffmpeg on the PATH
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return "";
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? video_name : "";
 }
 
 }  // namespace skidsim::apps

@@ -18,16 +18,18 @@ namespace skidsim::apps {
 class FrameRecorder {
  public:
   // Frames go to `dir`/frame_000000.png, ...; the context is made on the
-  // recorder's thread (`backend`: auto, egl or osmesa).
+  // recorder's thread (`backend`: auto, egl or osmesa), and the constructor
+  // waits for it: std::runtime_error if there is none (nothing has run yet).
   FrameRecorder(std::string dir, int width, int height, std::string backend);
   ~FrameRecorder();
   FrameRecorder(const FrameRecorder&) = delete;
   FrameRecorder& operator=(const FrameRecorder&) = delete;
 
   void submit(render::Scene scene, const render::Camera& camera);
-  // Waits for every frame to be written; throws std::runtime_error if the
-  // recorder failed (no context, a full disk), naming why.
-  void finish();
+  // Waits for every frame to be written. Returns "" or, if the recorder
+  // failed on the way (a full disk), why: the frames up to there remain, and
+  // the session is not lost for it.
+  std::string finish();
   int frames_written() const;
   std::string renderer() const;  // the backend and GL renderer it got
 
@@ -39,10 +41,15 @@ class FrameRecorder {
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<std::pair<render::Scene, render::Camera>> queue_;
-  bool closing_ = false;
+  bool closing_ = false, started_ = false;
   int written_ = 0;
   std::string error_, renderer_;
   std::thread thread_;
 };
+
+// `dir`/frames/frame_%06d.png -> `dir`/`video_name` with ffmpeg (run
+// directly, no shell), when it is on the PATH. Returns the video's name, or
+// "" (no ffmpeg, or it failed: the frames remain).
+std::string encode_video(const std::string& dir, double fps, const std::string& video_name = "session.mp4");
 
 }  // namespace skidsim::apps

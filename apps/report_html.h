@@ -1,5 +1,6 @@
 // A session's report (the report.json `skidsim run` writes) as one HTML page
-// a trainer can open anywhere: self-contained, no scripts, no external files.
+// a trainer can open anywhere: no scripts; nothing outside it but the
+// recorded frames beside it, when there are some.
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -8,8 +9,8 @@
 
 namespace skidsim::apps {
 
-// The session's report as one self-contained HTML page (no scripts, no
-// external files): the exercise's name, a pass/fail banner with the score
+// The session's report as one HTML page (no scripts; only the strip of
+// frames is read from beside it): the exercise's name, a pass/fail banner with the score
 // against the pass score, the end reason, mode and operator; tables of the
 // tasks, metrics (and those not measured yet), events, control-input counts
 // and performance; the score term by term; a strip of up to 8 recorded

@@ -68,7 +68,8 @@ function draw_plots() {
   for (const name of Object.keys(DATA.timeline)) {
     if (name === "t_s") continue;
     const v = DATA.timeline[name];
-    let lo = Math.min(...v), hi = Math.max(...v);
+    let lo = Infinity, hi = -Infinity;
+    for (const y of v) { lo = Math.min(lo, y); hi = Math.max(hi, y); }
     if (!(hi > lo)) { hi = lo + 1; }
     const box = document.createElement("div");
     box.className = "plot";
@@ -156,15 +157,18 @@ function seek(t) {
   s.dispatchEvent(new Event("input"));
 }
 
+// Playing keeps its own clock: the scrubber's value snaps to its step.
 function play() {
   if (playing) { clearInterval(playing); playing = null; $("play").textContent = "play"; return; }
   $("play").textContent = "pause";
-  let last = performance.now();
+  let last = performance.now(), t = Number($("scrub").value);
+  if (t >= t_end) t = 0;
   playing = setInterval(() => {
     const now = performance.now();
-    const t = Number($("scrub").value) + (now - last) / 1000 * Number($("speed").value);
+    t = Math.min(t + (now - last) / 1000 * Number($("speed").value), t_end);
     last = now;
-    seek(t >= t_end ? t_end : t);
+    $("scrub").value = t;
+    show(t);
     if (t >= t_end) play();
   }, 50);
 }
@@ -181,7 +185,7 @@ function start() {
   $("verdict").className = DATA.passed ? "pass" : "fail";
   const s = $("scrub");
   s.max = t_end;
-  s.step = frame_set ? 1 / frame_set.fps : 0.1;
+  s.step = "any";
   s.addEventListener("input", () => show(Number(s.value)));
   const pick = $("camera");
   DATA.frame_sets.forEach((f, k) => {
@@ -245,7 +249,7 @@ std::string render_review_html(const json& report, const std::vector<FrameSet>& 
       if (t < 0.0) continue;
       duration_s = std::max(duration_s, t);
       data["events"].push_back({{"time_s", t}, {"kind", text_or(field(e, "kind"), "")},
-                                {"severity", static_cast<int>(number_or(field(e, "severity"), 0.0))},
+                                {"severity", static_cast<int>(std::clamp(number_or(field(e, "severity"), 0.0), 0.0, 2.0))},
                                 {"text", text_or(field(e, "text"), "")}});
     }
   data["duration_s"] = duration_s;
@@ -260,10 +264,13 @@ std::string render_review_html(const json& report, const std::vector<FrameSet>& 
   for (const FrameSet& f : frame_sets)
     if (f.frames > 0 && f.fps > 0.0)
       data["frame_sets"].push_back({{"label", f.label}, {"dir", f.dir}, {"fps", f.fps}, {"frames", f.frames}});
-  // "</" inside a script element would end it early.
-  std::string embedded = data.dump(-1, ' ', false, json::error_handler_t::replace);
-  for (std::size_t at = embedded.find("</"); at != std::string::npos; at = embedded.find("</", at + 3))
-    embedded.replace(at, 2, "<\\/");
+  // No '<' at all inside the script element ("</script>", "<!--" would
+  // change how the HTML parser reads it): JSON has it only in strings,
+  // where \u003c means the same.
+  const std::string dumped = data.dump(-1, ' ', false, json::error_handler_t::replace);
+  std::string embedded;
+  embedded.reserve(dumped.size());
+  for (const char c : dumped) embedded += c == '<' ? std::string("\\u003c") : std::string(1, c);
 
   std::string html;
   html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>skidsim review</title><style>";

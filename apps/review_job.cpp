@@ -1,6 +1,7 @@
 #include "apps/review_job.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -26,6 +27,19 @@ json read_json(const fs::path& path) {
   } catch (const json::exception& e) {
     throw io::InputError(path.string() + ": not valid JSON (" + e.what() + ")");
   }
+}
+
+// A report's or frames.json's fields, read without trusting their types.
+double number_at(const json& j, const char* key, double fallback) {
+  if (!j.is_object()) return fallback;
+  const auto it = j.find(key);
+  return it != j.end() && it->is_number() && std::isfinite(it->get<double>()) ? it->get<double>() : fallback;
+}
+
+std::string text_at(const json& j, const char* key, const std::string& fallback) {
+  if (!j.is_object()) return fallback;
+  const auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : fallback;
 }
 
 std::string hash_of(const json& report) {
@@ -55,13 +69,14 @@ std::vector<std::string> frame_files(const fs::path& dir) {
 // (a frames_* folder with its frames.json).
 std::vector<FrameSet> find_frame_sets(const fs::path& run, const json& report) {
   std::vector<FrameSet> sets;
-  const json recording = report.contains("recording") ? report["recording"] : json();
-  if (recording.is_object() && recording.value("fps", 0.0) > 0.0) {
+  const json recording = report.is_object() && report.contains("recording") ? report["recording"] : json();
+  const double recorded_fps = number_at(recording, "fps", 0.0);
+  if (recorded_fps >= 0.1 && recorded_fps <= 1000.0) {
     FrameSet f;
     f.dir = "frames";
-    f.fps = recording.value("fps", 10.0);
+    f.fps = recorded_fps;
     f.frames = static_cast<int>(frame_files(run / f.dir).size());
-    f.label = recording.value("camera", std::string("recorded")) + ", " + fps_text(f.fps) + " fps";
+    f.label = text_at(recording, "camera", "recorded") + ", " + fps_text(f.fps) + " fps";
     if (f.frames > 0) sets.push_back(f);
   }
   std::vector<fs::path> extra;
@@ -73,17 +88,19 @@ std::vector<FrameSet> find_frame_sets(const fs::path& run, const json& report) {
     const json meta = read_json(dir / "frames.json");
     FrameSet f;
     f.dir = dir.filename().string();
-    f.fps = meta.value("fps", 10.0);
+    f.fps = number_at(meta, "fps", 0.0);
+    if (!(f.fps >= 0.1 && f.fps <= 1000.0))
+      throw io::InputError((dir / "frames.json").string() + ": 'fps' must be a number of frames a second (0.1 to 1000)");
     f.frames = static_cast<int>(frame_files(dir).size());
-    f.label = meta.value("camera", std::string("?")) + ", " + fps_text(f.fps) + " fps (re-rendered)";
-    if (f.frames > 0 && f.fps > 0.0) sets.push_back(f);
+    f.label = text_at(meta, "camera", "?") + ", " + fps_text(f.fps) + " fps (re-rendered)";
+    if (f.frames > 0) sets.push_back(f);
   }
   return sets;
 }
 
 // Replays the run with recording on and keeps the frames if the replay
 // reached the run's final state. Returns the exit code.
-int rerender(const ReviewJob& job, const fs::path& run, const json& report) {
+int rerender(const ReviewJob& job, const fs::path& run, const json& report, std::string* frames_dir) {
   RunJob r;
   r.exercise_path = job.exercise_path;
   if (r.exercise_path.empty()) {
@@ -110,13 +127,17 @@ int rerender(const ReviewJob& job, const fs::path& run, const json& report) {
   if (code != 0) return code;
   const fs::path replay = r.out_dir;
   const json replayed = read_json(replay / "report.json");
+  if (hash_of(report).empty()) {
+    fs::remove_all(replay);
+    throw io::InputError((run / "report.json").string() + ": no 'final_state_hash' to check a replay against");
+  }
   if (hash_of(replayed) != hash_of(report)) {
     fs::remove_all(replay);
     std::cerr << "skidsim review: the replay ended in state " << hash_of(replayed) << ", the run in " << hash_of(report)
               << ": not the same session (another build or exercise?); no frames kept\n";
     return 1;
   }
-  const json& rec = replayed["recording"];
+  const json& rec = replayed["recording"];  // written by this build: its types are right
   const std::string camera = rec.value("camera", std::string("chase"));
   const double fps = rec.value("fps", 10.0);
   const fs::path target = run / ("frames_" + camera + "_" + fps_text(fps) + "fps");
@@ -133,6 +154,7 @@ int rerender(const ReviewJob& job, const fs::path& run, const json& report) {
   if (fs::exists(replay / "session.mp4")) fs::rename(replay / "session.mp4", run / (target.filename().string() + ".mp4"));
   fs::remove_all(old);
   fs::remove_all(replay);
+  *frames_dir = target.filename().string();
   std::cout << "re-rendered " << rec.value("frames", 0) << " frames from the " << camera << " camera at " << fps_text(fps)
             << " fps into " << target.string() << " (replay reached the run's state " << hash_of(report) << ")\n";
   return 0;
@@ -144,19 +166,28 @@ int review_session(const ReviewJob& job) {
   const fs::path run = job.run_dir;
   if (!fs::is_directory(run)) throw io::InputError(job.run_dir + ": no such run directory");
   const json report = read_json(run / "report.json");
-  if (!job.camera.empty() || job.fps > 0.0) {
-    const int code = rerender(job, run, report);
+  if (!report.is_object()) throw io::InputError((run / "report.json").string() + ": not a report (expected a JSON object)");
+  if (job.fps != 0.0 && !(job.fps >= 0.1 && job.fps <= 100.0)) throw io::InputError("--fps: expected 0.1 to 100 frames a second");
+  if (job.width < 0 || job.height < 0) throw io::InputError("--width / --height: expected 16 to 8192 pixels");
+  std::string rendered;  // the frames just re-rendered, if any
+  if (!job.camera.empty() || job.fps > 0.0 || job.width > 0 || job.height > 0) {
+    const int code = rerender(job, run, report, &rendered);
     if (code != 0) return code;
   }
   const std::vector<FrameSet> sets = find_frame_sets(run, report);
+  // The sheet of the frames just rendered, else the run's own recording;
+  // made before anything is written, so a bad frame leaves both files as
+  // they were.
+  const FrameSet* shown = sets.empty() ? nullptr : &sets.front();
+  for (const FrameSet& f : sets)
+    if (f.dir == rendered) shown = &f;
+  io::RgbImage sheet;
+  if (shown) sheet = contact_sheet(frame_files(run / shown->dir));
   io::write_text_atomically((run / "review.html").string(), render_review_html(report, sets));
   std::cout << "wrote " << (run / "review.html").string();
-  if (!sets.empty()) {
-    // The sheet of the newest set asked for, else the run's own recording.
-    const FrameSet& shown = sets.back();
-    const io::RgbImage sheet = contact_sheet(frame_files(run / shown.dir));
+  if (shown) {
     io::write_png_rgb8((run / "contact_sheet.png").string(), sheet);
-    std::cout << " and " << (run / "contact_sheet.png").string() << " (" << shown.label << ")";
+    std::cout << " and " << (run / "contact_sheet.png").string() << " (" << shown->label << ")";
   }
   std::cout << "; " << sets.size() << " recording(s)\n";
   return 0;

@@ -13,8 +13,8 @@ namespace skidsim::apps {
 struct ReviewJob {
   std::string run_dir;
   std::string camera;             // re-render from this camera (cab, chase, aerial, fixed)
-  double fps = 0.0;               // re-render at this rate; 0: the run's (or the exercise's)
-  int width = 0, height = 0;      // re-render size; 0: the exercise's
+  double fps = 0.0;               // re-render at this rate; 0: the exercise's
+  int width = 0, height = 0;      // re-render size; 0: the exercise's (any of these four re-renders)
   std::string backend = "auto";   // auto, egl, osmesa
   std::string exercise_path;      // empty: the one report.json names
 };

@@ -85,16 +85,6 @@ void log_message(lcm::LogFile& log, const std::string& channel, const Message& m
   log.writeEvent(&e);
 }
 
-// frames/*.png -> session.mp4 with ffmpeg, when it is on the PATH; returns
-// the video's name, or "" (no ffmpeg, or it failed: the frames remain).
-std::string encode_video(const std::filesystem::path& dir, double fps) {
-  if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) return "";
-  const std::string cmd = "ffmpeg -loglevel error -y -framerate " + std::to_string(fps) + " -i '" +
-                          (dir / "frames" / "frame_%06d.png").string() + "' -pix_fmt yuv420p -vf 'scale=trunc(iw/2)*2:trunc(ih/2)*2' '" +
-                          (dir / "session.mp4").string() + "' < /dev/null";
-  return std::system(cmd.c_str()) == 0 ? "session.mp4" : "";
-}
-
 }  // namespace
 
 int run_session(const RunJob& job) {
@@ -222,7 +212,8 @@ int run_session(const RunJob& job) {
   const int fh = job.frame_height > 0 ? job.frame_height : ex.recording.height;
   double next_frame_s = 0.0;
   if (job.record) {
-    if (!(fps >= 0.1 && fps <= 500.0)) throw io::InputError("--fps: expected 0.1 to 500 frames a second");
+    // Frames are taken between control ticks (100 a second).
+    if (!(fps >= 0.1 && fps <= 100.0)) throw io::InputError("--fps: expected 0.1 to 100 frames a second");
     if (fw < 16 || fh < 16 || fw > 8192 || fh > 8192) throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
     if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")
       throw io::InputError("--render-backend '" + job.render_backend + "': expected auto, egl or osmesa");
@@ -234,7 +225,11 @@ int run_session(const RunJob& job) {
     std::filesystem::create_directories(run_dir.staging() / "frames");
     scene = static_scene(ex, *world);
     if (world->terrain()) world->terrain()->record_flow(true);  // for the sand's moving texture; the state is untouched
-    recorder = std::make_unique<FrameRecorder>((run_dir.staging() / "frames").string(), fw, fh, job.render_backend);
+    try {
+      recorder = std::make_unique<FrameRecorder>((run_dir.staging() / "frames").string(), fw, fh, job.render_backend);
+    } catch (const std::runtime_error& e) {  // no OpenGL: refused before the session starts
+      throw io::InputError(std::string("--record: ") + e.what());
+    }
   }
   const double limit_s = job.max_s > 0.0 ? job.max_s : ex.time_limit_s;
   Progress progress("run", limit_s);
@@ -388,10 +383,11 @@ int run_session(const RunJob& job) {
   if (tiles) send_tiles(world->steps(), world->time_s());
   json recording = nullptr;
   if (recorder) {
-    recorder->finish();
+    const std::string recording_error = recorder->finish();
+    if (!recording_error.empty()) std::fprintf(stderr, "skidsim: recording stopped: %s (the session is kept)\n", recording_error.c_str());
     recording = {{"frames", recorder->frames_written()}, {"fps", fps}, {"camera", camera_name}, {"dir", "frames"},
                  {"width", fw}, {"height", fh}, {"renderer", recorder->renderer()},
-                 {"video", encode_video(run_dir.staging(), fps)}};
+                 {"video", encode_video(run_dir.staging().string(), fps)}, {"error", recording_error}};
   }
   // The end, at the step the world stopped at: a replay stops there too.
   tasks.finish(*world);

@@ -22,35 +22,18 @@ std::string source(const std::string& relative) {
       .string();
 }
 
-// One iteration: one frame (shadow pass, colour pass, read back), timed by
-// the wall clock: llvmpipe rasterises on threads of its own.
-void BM_RenderFrame(benchmark::State& state) {
-  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
-  const io::Exercise ex = io::load_exercise(source("scenarios/pile_to_zone.xml"));
-  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
-  auto world = apps::build_session_world(ex, loader, soils);
-  const render::Scene scene = apps::static_scene(ex, *world);
-  const render::Camera camera = apps::exercise_camera("chase", ex, *world);
-  auto context = render::make_offscreen_context("auto", static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  render::Renderer renderer(*context);
-  std::vector<std::uint8_t> rgb;
-  for (auto _ : state) {
-    renderer.render(scene, camera);
-    context->read_rgb(rgb);
-  }
-  state.SetLabel(std::string(render::backend_name(context->backend())) + ", " + context->renderer());
-  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-}
-// The same frame with a dump's dust over it: 600 puffs (the most a frame of
-// the pile-to-zone script holds) of 0.2-0.9 m around the machine.
-void BM_RenderFrameWithDust(benchmark::State& state) {
+// Frames of the pile-to-zone scene from the chase camera, `dust_puffs`
+// puffs of 0.2-0.9 m around the machine. One iteration: one frame (shadow
+// pass, colour pass, read back), timed by the wall clock: llvmpipe
+// rasterises on threads of its own.
+void render_frames(benchmark::State& state, int dust_puffs) {
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
   const io::Exercise ex = io::load_exercise(source("scenarios/pile_to_zone.xml"));
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
   auto world = apps::build_session_world(ex, loader, soils);
   render::Scene scene = apps::static_scene(ex, *world);
   const Eigen::Vector3f at = world->loader().link_pose(0).translation().cast<float>();
-  for (int k = 0; k < 600; ++k)
+  for (int k = 0; k < dust_puffs; ++k)
     scene.particles.push_back({at + Eigen::Vector3f(1.5f + 0.004f * static_cast<float>(k % 97), 0.01f * static_cast<float>(k % 131) - 0.6f,
                                                     0.002f * static_cast<float>(k % 211)),
                                0.2f + 0.7f * static_cast<float>(k % 50) / 50.0f, 0.3f, static_cast<float>(k % 4) / 4.0f,
@@ -66,6 +49,11 @@ void BM_RenderFrameWithDust(benchmark::State& state) {
   state.SetLabel(std::string(render::backend_name(context->backend())) + ", " + context->renderer());
   state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
+
+void BM_RenderFrame(benchmark::State& state) { render_frames(state, 0); }
+// With a dump's dust: 600 puffs, the most a frame of the pile-to-zone
+// script holds.
+void BM_RenderFrameWithDust(benchmark::State& state) { render_frames(state, 600); }
 BENCHMARK(BM_RenderFrameWithDust)->Args({1280, 720})->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
 BENCHMARK(BM_RenderFrame)->Args({1280, 720})->Args({640, 360})->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();

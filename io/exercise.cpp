@@ -397,7 +397,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
     } else if (name == "record") {
       once(have_record);
       Recording& rec = r.ex.recording;
-      rec.fps = a.number_in("fps", 0.1, 120.0);
+      rec.fps = a.number_in("fps", 0.1, 100.0);  // frames are taken between 10 ms control ticks
       rec.camera = a.text("camera", false);
       if (rec.camera.empty()) rec.camera = "chase";
       if (rec.camera != "cab" && rec.camera != "chase" && rec.camera != "aerial" && rec.camera != "fixed")

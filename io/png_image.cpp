@@ -87,6 +87,11 @@ RgbImage read_png_rgb8(const std::string& path) {
   png_set_strip_alpha(png);
   png_set_gray_to_rgb(png);
   png_read_update_info(png, info);
+  // A frame or a sheet, not a poster: the header is not trusted further.
+  if (png_get_image_width(png, info) > 16384 || png_get_image_height(png, info) > 16384) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw InputError(path + ": over 16384 pixels on a side");
+  }
   image->width = static_cast<int>(png_get_image_width(png, info));
   image->height = static_cast<int>(png_get_image_height(png, info));
   if (png_get_rowbytes(png, info) != static_cast<std::size_t>(image->width) * 3) {

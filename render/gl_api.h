@@ -87,6 +87,10 @@ struct GlApi {
 using GlResolver = void* (*)(const char* name);
 void load_gl_api(GlApi& api, GlResolver resolve);
 
+// A program from a vertex and a fragment shader's source; throws
+// std::runtime_error with the compiler's or linker's log.
+GLuint link_program(const GlApi& gl, const char* vertex, const char* fragment);
+
 // Throws std::runtime_error naming `what` if GL reports an error.
 void check_gl(const GlApi& gl, const std::string& what);
 

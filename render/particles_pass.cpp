@@ -55,20 +55,6 @@ void main() {
 }
 )";
 
-GLuint compile(const GlApi& gl, GLenum type, const char* source) {
-  const GLuint shader = gl.CreateShader(type);
-  gl.ShaderSource(shader, 1, &source, nullptr);
-  gl.CompileShader(shader);
-  GLint ok = 0;
-  gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("render: particle shader does not compile: ") + log);
-  }
-  return shader;
-}
-
 }  // namespace
 
 std::vector<unsigned char> ParticlesPass::make_puff_atlas() {
@@ -94,16 +80,7 @@ std::vector<unsigned char> ParticlesPass::make_puff_atlas() {
 }
 
 ParticlesPass::ParticlesPass(const GlApi& gl) : gl_(gl) {
-  const GLuint v = compile(gl, GL_VERTEX_SHADER, kVertexShader), f = compile(gl, GL_FRAGMENT_SHADER, kFragmentShader);
-  program_ = gl.CreateProgram();
-  gl.AttachShader(program_, v);
-  gl.AttachShader(program_, f);
-  gl.LinkProgram(program_);
-  gl.DeleteShader(v);
-  gl.DeleteShader(f);
-  GLint ok = 0;
-  gl.GetProgramiv(program_, GL_LINK_STATUS, &ok);
-  if (!ok) throw std::runtime_error("render: particle shaders do not link");
+  program_ = link_program(gl, kVertexShader, kFragmentShader);
   const std::vector<unsigned char> atlas = make_puff_atlas();
   gl.GenTextures(1, &texture_);
   gl.BindTexture(GL_TEXTURE_2D, texture_);

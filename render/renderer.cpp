@@ -50,7 +50,9 @@ in vec3 world_normal;
 in vec4 sun_position;
 in vec2 flow_velocity;
 in vec2 displacement[3];
-uniform float time_s;
+uniform float flow_time_s;    // simulated time modulo the period (float keeps its precision)
+uniform float flow_phase_s;   // sigma
+uniform float flow_period_s;  // tau
 uniform vec3 colour;
 uniform vec3 to_sun;
 uniform vec3 sky;
@@ -66,10 +68,11 @@ float sand_grain(vec2 p) { return hash(floor(p * 40.0)) * 0.6 + hash(floor(p * 9
 // apart, always sum to one. The copies share one base coordinate, so sand
 // at rest (no displacement) looks the same whatever the weights.
 float flowing_grain(vec2 p) {
-  const float sigma = 0.3, tau = 0.9, two_pi = 6.28318530718;
-  float w0 = (1.0 - cos(two_pi * (time_s + sigma) / tau)) / 3.0;
-  float w1 = (1.0 - cos(two_pi * time_s / tau)) / 3.0;
-  float w2 = (1.0 - cos(two_pi * (time_s - sigma) / tau)) / 3.0;
+  const float two_pi = 6.28318530718;
+  float t = flow_time_s, sigma = flow_phase_s, tau = flow_period_s;
+  float w0 = (1.0 - cos(two_pi * (t + sigma) / tau)) / 3.0;
+  float w1 = (1.0 - cos(two_pi * t / tau)) / 3.0;
+  float w2 = (1.0 - cos(two_pi * (t - sigma) / tau)) / 3.0;
   return w0 * sand_grain(p - displacement[0]) + w1 * sand_grain(p - displacement[1]) + w2 * sand_grain(p - displacement[2]);
 }
 float lit_by_sun(vec3 n) {
@@ -170,38 +173,6 @@ Eigen::Matrix4f sun_view_projection(const Scene& scene) {
   Eigen::Matrix4f flip = Eigen::Matrix4f::Identity();
   flip(2, 2) = -1.0f;
   return orthographic(volume) * flip * view;
-}
-
-GLuint compile(const GlApi& gl, GLenum type, const char* source) {
-  const GLuint shader = gl.CreateShader(type);
-  gl.ShaderSource(shader, 1, &source, nullptr);
-  gl.CompileShader(shader);
-  GLint ok = 0;
-  gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("render: shader does not compile: ") + log);
-  }
-  return shader;
-}
-
-GLuint link(const GlApi& gl, const char* vertex, const char* fragment) {
-  const GLuint v = compile(gl, GL_VERTEX_SHADER, vertex), f = compile(gl, GL_FRAGMENT_SHADER, fragment);
-  const GLuint p = gl.CreateProgram();
-  gl.AttachShader(p, v);
-  gl.AttachShader(p, f);
-  gl.LinkProgram(p);
-  gl.DeleteShader(v);
-  gl.DeleteShader(f);
-  GLint ok = 0;
-  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("render: shaders do not link: ") + log);
-  }
-  return p;
 }
 
 }  // namespace
@@ -347,7 +318,7 @@ void advance_flow(const GlApi& gl, const HeightField& f, FieldCache& c, double t
     c.flow_time_s = t_s;
   }
   double dt = t_s - c.flow_time_s;
-  if (!(dt >= 0.0 && dt < 1.0)) {  // a jump in time: start afresh
+  if (!(dt >= 0.0 && dt < 10.0)) {  // a jump in time (a new session, a seek): start afresh
     std::fill(c.flow.begin(), c.flow.end(), 0.0f);
     dt = 0.0;
   }
@@ -407,8 +378,8 @@ Renderer::Renderer(OffscreenContext& context, int shadow_map_size)
     : context_(context), shadow_size_(shadow_map_size), gpu_(std::make_unique<Gpu>()) {
   context_.make_current();
   const GlApi& gl = context_.gl();
-  gpu_->program = link(gl, kVertexShader, kFragmentShader);
-  gpu_->depth_program = link(gl, kDepthVertexShader, kDepthFragmentShader);
+  gpu_->program = link_program(gl, kVertexShader, kFragmentShader);
+  gpu_->depth_program = link_program(gl, kDepthVertexShader, kDepthFragmentShader);
   gl.GenTextures(1, &gpu_->shadow_texture);
   gl.BindTexture(GL_TEXTURE_2D, gpu_->shadow_texture);
   gl.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, shadow_size_, shadow_size_, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
@@ -504,7 +475,9 @@ void Renderer::render(const Scene& scene, const Camera& camera) {
   gl.Uniform3fv(gl.GetUniformLocation(g.program, "sky"), 1, scene.sky.data());
   const Eigen::Vector3f eye = camera.eye_m.cast<float>();
   gl.Uniform3fv(gl.GetUniformLocation(g.program, "eye"), 1, eye.data());
-  gl.Uniform1f(gl.GetUniformLocation(g.program, "time_s"), static_cast<float>(scene.time_s));
+  gl.Uniform1f(gl.GetUniformLocation(g.program, "flow_time_s"), static_cast<float>(std::fmod(scene.time_s, kFlowPeriodS)));
+  gl.Uniform1f(gl.GetUniformLocation(g.program, "flow_phase_s"), static_cast<float>(kFlowPhaseS));
+  gl.Uniform1f(gl.GetUniformLocation(g.program, "flow_period_s"), static_cast<float>(kFlowPeriodS));
   gl.ActiveTexture(GL_TEXTURE0);
   gl.BindTexture(GL_TEXTURE_2D, g.shadow_texture);
   gl.Uniform1i(gl.GetUniformLocation(g.program, "sun_depth"), 0);

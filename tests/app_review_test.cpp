@@ -162,6 +162,28 @@ TEST(SkidsimReview, BadRunDirectoriesAndCamerasAreRefused) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("report.json"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(none / "review.html"));
+  // A report of the wrong shape, and mistyped fields: named, exit 2.
+  std::ofstream(none / "report.json") << "[1, 2]";
+  r = run_skidsim("review " + none.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("not a report"), std::string::npos) << r.output;
+  std::ofstream(none / "report.json") << R"({"recording": {"fps": "fast", "camera": 3}, "events": [{"time_s": 1, "severity": 1e300, "text": "<!--<script>"}]})";
+  fs::create_directories(none / "frames_cab_2fps");
+  std::ofstream(none / "frames_cab_2fps" / "frames.json") << R"({"fps": "x"})";
+  r = run_skidsim("review " + none.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("frames_cab_2fps/frames.json"), std::string::npos) << r.output;
+  fs::remove_all(none / "frames_cab_2fps");
+  r = run_skidsim("review " + none.string());  // the rest is read as far as it makes sense
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const std::string html = slurp(none / "review.html");
+  EXPECT_EQ(html.find("<!--<script>"), std::string::npos) << "no '<' inside the page's data";
+  EXPECT_NE(html.find("\\u003c!--\\u003cscript>"), std::string::npos);
+  // Bad re-render options: refused before anything runs.
+  for (const std::string bad : {" --camera drone", " --fps -3", " --fps 1000"}) {
+    r = run_skidsim("review " + none.string() + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.output;
+  }
 }
 
 }  // namespace

@@ -177,12 +177,15 @@ TEST(TerrainMesh, RegionUpdateEqualsARebuild) {
 TEST(RenderBackends, IncrementalTerrainUpdateDrawsWhatARebuildDraws) {
   auto context = render::make_offscreen_context("osmesa", kWidth, kHeight);
   render::Scene scene = fixed_scene();
+  scene.fields[0].skirt_bottom_m = -0.3f;  // the edge's skirt is updated too
+  for (int j = 0; j < 61; ++j)
+    for (int i = 0; i < 61; ++i) scene.fields[0].height_m[static_cast<std::size_t>(j * 61 + i)] += 0.2f;
   std::vector<std::uint8_t> updated, rebuilt;
   {
     render::Renderer renderer(*context);
     (void)render::render_rgb(*context, renderer, scene, fixed_camera());
-    for (int j = 10; j < 25; ++j)  // a trench across the cone's flank
-      for (int i = 20; i < 40; ++i) scene.fields[0].height_m[static_cast<std::size_t>(j * 61 + i)] *= 0.3f;
+    for (int j = 10; j < 25; ++j)  // a trench across the cone's flank, out through the field's edge
+      for (int i = 0; i < 40; ++i) scene.fields[0].height_m[static_cast<std::size_t>(j * 61 + i)] *= 0.3f;
     updated = render::render_rgb(*context, renderer, scene, fixed_camera());
   }
   {
