@@ -245,12 +245,15 @@ int World::add_tray(const TraySpec& tray) {
                {{0.5 * L, 0.5 * d, 0.5 * side}, {0.5 * L, 0.5 * d, 0.5 * side}},
                {{0.5 * L, W - 0.5 * d, 0.5 * side}, {0.5 * L, 0.5 * d, 0.5 * side}}};
   const Eigen::Quaterniond q(tray.pose.linear());
+  TrayParts kept;
   for (const Part& p : parts) {
     if (p.half.z() <= 0.0) continue;
     add_static_ground(new btBoxShape(bt(p.half)),
                       btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(Eigen::Vector3d(tray.pose * p.centre))),
                       true);
+    kept.parts.push_back({statics_.back().get(), Eigen::Isometry3d(Eigen::Translation3d(p.centre))});  // a truck may move it
   }
+  tray_parts_.push_back(std::move(kept));
   exchange_->add_body(automaton.get());
   trays_.push_back(std::move(automaton));
   return static_cast<int>(trays_.size()) - 1;
@@ -418,6 +421,7 @@ void World::step(const vehicle::LoaderControls& controls) {
       loader_->add_force(bucket_.link, Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N), bucket_.load_point_world_m());
   }
   if (grid_) soil_on_machine();
+  if (!agents_.empty()) move_agents();
   loader_->pre_step(controls, kStepSeconds, grid_ ? soft_.data() : nullptr);
   // maxSubSteps = 0: exactly one internal step of kStepSeconds, no interpolation.
   world_->stepSimulation(kStepSeconds, 0, kStepSeconds);

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/agents.h"
 #include "engine/bucket_material.h"
 #include "engine/soil_resistance.h"
 #include "terrain/body_shapes.h"
@@ -112,6 +113,21 @@ class World {
     bool finite = true;  // every state value stayed finite
   };
   const Events& events() const { return events_; }
+  // People and vehicles on site (engine/agents.h), moved by their plans
+  // every step before Bullet's. A person is a capsule the machine passes
+  // through: the contact is detected, not resolved (the session scores it).
+  // A truck is its bed (a tray of this world, posed at the loading spot:
+  // the tray then moves with the truck, its material with it) with a cab in
+  // front and a chassis under it, solid to the machine; its route ends at
+  // the bed's centre there, appended if not given. Throws
+  // std::invalid_argument for a route that is empty or a truck without a
+  // tray. Returns the agent's index.
+  int add_agent(const AgentSpec& spec);
+  const std::vector<AgentSpec>& agent_specs() const { return agent_specs_; }
+  const std::vector<AgentState>& agents() const { return agents_; }
+  // The agents a part of the machine touches after the last step.
+  void agents_touching_machine(std::vector<int>& out) const;
+
   // A constant external force on a link, re-applied every step (payload).
   void set_link_load(int link, const Eigen::Vector3d& force_N, const Eigen::Vector3d& point_in_link_m);
 
@@ -174,6 +190,23 @@ class World {
   BucketMaterial bucket_;
   std::vector<std::unique_ptr<terrain::BodyAutomaton>> trays_;
   std::unique_ptr<terrain::MaterialExchange> exchange_;
+  // Agents: specs, states, and their Bullet bodies.
+  struct AgentBody {
+    btCollisionObject* object;  // owned by statics_
+    Eigen::Isometry3d local;    // in the agent's frame (ground point, x its heading)
+  };
+  struct TrayParts {
+    std::vector<AgentBody> parts;  // floor and walls, in the tray's frame
+  };
+  std::vector<TrayParts> tray_parts_;
+  std::vector<AgentSpec> agent_specs_;
+  std::vector<AgentState> agents_;
+  std::vector<std::vector<AgentBody>> agent_bodies_;
+  std::vector<Eigen::Isometry3d> truck_bed_in_agent_;  // per agent: its tray's frame in the agent's (trucks)
+  std::vector<double> bed_load_kg_;
+  std::vector<SteeringAgent> agent_scratch_;
+  void move_agents();
+  double ground_height_at(const Eigen::Vector2d& xy) const;
 };
 
 }  // namespace skidsim::engine

@@ -84,7 +84,7 @@ Loader::Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& w
                                   " rad is outside its limits");
   if (num_links > 0) body_->setJointPos(0, lift_rad);
   if (num_links > 1) body_->setJointPos(1, tilt_rad);
-  world_.addMultiBody(body_, kMachineCollisionGroup, kGroundCollisionGroup);
+  world_.addMultiBody(body_, kMachineCollisionGroup, kGroundCollisionGroup | kAgentCollisionGroup);
 
   // Colliders: each link's boxes in a compound, placed in its COM frame.
   for (int l = 0; l <= num_links; ++l) {
@@ -109,7 +109,7 @@ Loader::Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& w
   btAlignedObjectArray<btQuaternion> scratch_q;
   btAlignedObjectArray<btVector3> scratch_v;
   body_->updateCollisionObjectWorldTransforms(scratch_q, scratch_v);
-  for (auto* col : colliders_) world_.addCollisionObject(col, kMachineCollisionGroup, kGroundCollisionGroup);
+  for (auto* col : colliders_) world_.addCollisionObject(col, kMachineCollisionGroup, kGroundCollisionGroup | kAgentCollisionGroup);
 
   // Cylinders: one velocity motor per joint, its bound set each step; the
   // stroke's ends are the joint limits.

@@ -36,6 +36,7 @@ namespace skidsim::vehicle {
 constexpr int kMachineCollisionGroup = 1 << 6;
 constexpr int kGroundCollisionGroup = 1 << 7;
 constexpr int kTyreProbeGroup = 1 << 8;
+constexpr int kAgentCollisionGroup = 1 << 9;  // people on site: detected against the machine only
 
 // What the soil under one wheel does this step (the engine fills it from
 // the terrain's contact model; firm ground is found by Bullet contact tests).
