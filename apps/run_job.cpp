@@ -413,6 +413,17 @@ int run_session(const RunJob& job) {
     const double value = tasks.metrics().value(m.name);
     breakdown.push_back({{"metric", m.name}, {"weight", m.weight}, {"value", value}, {"points", m.weight * value}});
   }
+  // People and trucks: where each ended, and what it was doing.
+  json agents = json::array();
+  static const char* const kPhases[] = {"not_yet", "moving", "pausing", "docked", "leaving", "gone"};
+  for (std::size_t k = 0; k < world->agents().size(); ++k) {
+    const engine::AgentState& a = world->agents()[k];
+    agents.push_back({{"id", world->agent_specs()[k].id},
+                      {"kind", world->agent_specs()[k].kind == engine::AgentKind::kTruck ? "truck" : "person"},
+                      {"phase", kPhases[static_cast<int>(a.phase)]},
+                      {"docked_at_s", a.docked_at_s},
+                      {"position_m", {a.body.position_m.x(), a.body.position_m.y()}}});
+  }
   json events = json::array();
   for (const SessionEvent& e : tasks.all_events())
     events.push_back({{"time_s", e.time_s}, {"kind", e.kind}, {"severity", e.severity}, {"text", e.text}});
@@ -433,6 +444,7 @@ int run_session(const RunJob& job) {
       {"metrics", metrics},
       {"metrics_not_measured_yet", not_measured},
       {"passes", tasks.metrics().passes},
+      {"agents", agents},
       {"peak_bucket_acceleration_m_s2", tasks.metrics().peak_bucket_acceleration_m_s2},
       {"events", events},
       {"timeline", timeline_json},

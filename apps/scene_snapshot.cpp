@@ -76,6 +76,55 @@ void for_each_machine_part(const vehicle::Loader& l, F&& f) {
     }
 }
 
+// The parts that move with the world but are not the machine, in a fixed
+// order static_scene and update_scene share: each tray's bed (floor, four
+// walls, and the block under it when it stands up), then each agent (a
+// person: body and head; a truck: its cab). `f(pose, colour)` for each.
+template <class F>
+void for_each_site_part(const engine::World& world, F&& f) {
+  const Eigen::Vector3f bed(0.55f, 0.12f, 0.10f);
+  for (int k = 0; k < world.tray_count(); ++k) {
+    const terrain::BodyAutomaton& tray = world.tray(k);
+    const Eigen::Isometry3d frame = tray.pose();
+    const terrain::ContainerShape& c = tray.shape();
+    const double L = c.length_m, W = c.width_m, H = std::max(c.side_height_back_m, c.side_height_front_m), w = 0.05;
+    const double floor_z = frame.translation().z();
+    f(box_pose(frame, {0.5 * L, 0.5 * W, -0.05}, {L, W, 0.1}), bed);
+    f(box_pose(frame, {0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed);
+    f(box_pose(frame, {L - 0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed);
+    f(box_pose(frame, {0.5 * L, 0.5 * w, 0.5 * H}, {L, w, H}), bed);
+    f(box_pose(frame, {0.5 * L, W - 0.5 * w, 0.5 * H}, {L, w, H}), bed);
+    // What carries the bed: a dark block under it (always emitted, flat
+    // when the bed stands on the ground, so the order never changes).
+    const double block = std::max(floor_z - 0.1, 0.001);
+    f(box_pose(frame, {0.5 * L, 0.5 * W, -0.1 - 0.5 * block}, {L * 0.9, W * 0.8, block}), Eigen::Vector3f(0.15f, 0.15f, 0.17f));
+  }
+  const std::vector<engine::AgentSpec>& specs = world.agent_specs();
+  for (std::size_t k = 0; k < specs.size(); ++k) {
+    const engine::AgentState& a = world.agents()[k];
+    const bool present = engine::on_site(a);
+    if (specs[k].kind == engine::AgentKind::kTruck && specs[k].tray >= 0) {
+      const terrain::BodyAutomaton& tray = world.tray(specs[k].tray);
+      const Eigen::Isometry3d frame = tray.pose();
+      const double L = tray.shape().length_m, W = tray.shape().width_m, floor_z = frame.translation().z();
+      f(box_pose(frame, {L + 0.05 + 0.5 * engine::kTruckCabLengthM, 0.5 * W, 0.5 * engine::kTruckCabHeightM - floor_z},
+                 {engine::kTruckCabLengthM, W, engine::kTruckCabHeightM}),
+        Eigen::Vector3f(0.85f, 0.85f, 0.82f));
+      continue;
+    }
+    // A person in a high-visibility vest: body and head; out of sight when
+    // not on site.
+    Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+    frame.linear() = Eigen::AngleAxisd(a.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d at(a.body.position_m.x(), a.body.position_m.y(),
+                             present ? ground_height_m(world, Eigen::Vector3d(a.body.position_m.x(), a.body.position_m.y(), 0.0)) : -1e4);
+    frame.translation() = at;
+    const double h = engine::kPersonHeightM;
+    f(box_pose(frame, {0.0, 0.0, 0.42 * h}, {0.3, 0.46, 0.84 * h}), Eigen::Vector3f(1.0f, 0.45f, 0.05f));
+    f(box_pose(frame, {0.0, 0.0, 0.92 * h}, {0.22, 0.2, 0.16 * h}), Eigen::Vector3f(0.95f, 0.85f, 0.2f));  // hard hat
+  }
+}
+
 render::HeightField field_of(const terrain::GranularGrid& g, const Eigen::Isometry3d& frame, bool only_material) {
   render::HeightField f;
   f.nx = g.nx();
@@ -104,6 +153,9 @@ render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
   });
   s.meshes.push_back(unit_cube());
   const int cube = static_cast<int>(s.meshes.size()) - 1;
+  for_each_site_part(world, [&](const Eigen::Affine3d& pose, const Eigen::Vector3f& colour) {
+    s.instances.push_back({cube, pose, colour});
+  });
   const Eigen::Vector2d size = ex.site_size_m;
   if (ex.firm_ground) {
     // The yard, 10 m beyond the site on every side. Around soil it is a
@@ -133,22 +185,6 @@ render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
     pose.scale(b.size_m);
     s.instances.push_back({cube, pose, Eigen::Vector3f(0.95f, 0.35f, 0.05f)});
   }
-  for (const io::TruckBed& t : ex.trucks) {
-    Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
-    frame.linear() = Eigen::AngleAxisd(t.yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    frame.translation() = Eigen::Vector3d(t.back_corner_m.x(), t.back_corner_m.y(), t.floor_height_m);
-    const double L = t.length_m, W = t.width_m, H = t.wall_height_m, w = 0.05;
-    const Eigen::Vector3f bed(0.55f, 0.12f, 0.10f);
-    s.instances.push_back({cube, box_pose(frame, {0.5 * L, 0.5 * W, -0.05}, {L, W, 0.1}), bed});
-    s.instances.push_back({cube, box_pose(frame, {0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed});
-    s.instances.push_back({cube, box_pose(frame, {L - 0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed});
-    s.instances.push_back({cube, box_pose(frame, {0.5 * L, 0.5 * w, 0.5 * H}, {L, w, H}), bed});
-    s.instances.push_back({cube, box_pose(frame, {0.5 * L, W - 0.5 * w, 0.5 * H}, {L, w, H}), bed});
-    // What carries the bed: a dark block under it.
-    if (t.floor_height_m > 0.15)
-      s.instances.push_back({cube, box_pose(frame, {0.5 * L, 0.5 * W, -0.5 * t.floor_height_m}, {L * 0.9, W * 0.8, t.floor_height_m - 0.1}),
-                             Eigen::Vector3f(0.15f, 0.15f, 0.17f)});
-  }
   s.shadow_bounds_m = Eigen::AlignedBox3d(Eigen::Vector3d(-2, -2, -1), Eigen::Vector3d(size.x() + 2, size.y() + 2, 5));
   update_scene(world, s);
   return s;
@@ -160,6 +196,7 @@ void update_scene(const engine::World& world, render::Scene& s, SceneHistory* hi
   for_each_machine_part(world.loader(), [&](const vehicle::VisualMesh&, const Eigen::Affine3d& pose, const Eigen::Vector3f&) {
     s.instances[k++].pose = pose;
   });
+  for_each_site_part(world, [&](const Eigen::Affine3d& pose, const Eigen::Vector3f&) { s.instances[k++].pose = pose; });
   s.fields.clear();
   if (const terrain::GranularGrid* g = world.terrain()) {
     s.fields.push_back(field_of(*g, Eigen::Isometry3d::Identity(), false));

@@ -50,7 +50,8 @@ bool Metrics::measured(const std::string& name) {
                                           "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s",
                                           "left_work_area_s", "material_rate_kg_h", "spillage_kg",
                                           "bucket_fill_per_pass", "engine_energy_MJ", "collisions",
-                                          "bucket_impacts"};
+                                          "bucket_impacts", "people_collisions", "truck_collisions", "near_misses",
+                                          "min_distance_to_people_m", "speed_near_people_s"};
   for (const char* m : kMeasured)
     if (name == m) return true;
   return false;
@@ -68,8 +69,13 @@ double Metrics::value(const std::string& name) const {
   if (name == "spillage_kg") return spillage_kg;
   if (name == "bucket_fill_per_pass") return bucket_fill_per_pass;
   if (name == "engine_energy_MJ") return engine_energy_MJ;
-  if (name == "collisions") return collisions;
+  if (name == "collisions") return collisions + safety.people_collisions + safety.truck_collisions;  // objects, trucks, people
   if (name == "bucket_impacts") return bucket_impacts;
+  if (name == "people_collisions") return safety.people_collisions;
+  if (name == "truck_collisions") return safety.truck_collisions;
+  if (name == "near_misses") return safety.near_misses;
+  if (name == "min_distance_to_people_m") return safety.min_distance_to_people_m;
+  if (name == "speed_near_people_s") return safety.speed_near_people_s;
   return 0.0;
 }
 
@@ -324,6 +330,10 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   }
   if (touching) touching_ = true;
   if (touching_ && apart_s_ >= 0.5) touching_ = false;
+  safety_.update(w, t, dt_s, [this](double at, const std::string& kind, const std::string& text, int severity) {
+    emit(at, kind, text, severity);
+  });
+  metrics_.safety = safety_.metrics();
   metrics_.engine_energy_MJ += l.engine_output_power_W() * dt_s * 1e-6;
   const double work_s = metrics_.completion_time_s;
   metrics_.material_rate_kg_h = work_s > 0.0 ? moved * 3600.0 / work_s : 0.0;

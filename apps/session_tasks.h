@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/session_safety.h"
 #include "engine/world.h"
 #include "io/exercise.h"
 
@@ -42,6 +43,7 @@ struct Metrics {
   double spillage_kg = 0.0;            // lost from the carried load away from the targets
   double bucket_fill_per_pass = 0.0;   // kg: the mean load carried per pass (a pass ends when the bucket is emptied)
   double engine_energy_MJ = 0.0;       // the engine's output, integrated per control tick
+  SafetyMetrics safety;                // people and trucks on site
   int passes = 0;
   double value(const std::string& name) const;  // 0 for a metric not measured yet
   static bool measured(const std::string& name);
@@ -107,6 +109,7 @@ class SessionTasks {
   bool have_bucket_velocity_ = false;
   double since_impact_s_ = 1e9;
   double apart_s_ = 1e9;  // how long the machine has been clear of obstacles (collision re-arm)
+  SafetyMonitor safety_;
 };
 
 }  // namespace skidsim::apps

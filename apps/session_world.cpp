@@ -103,6 +103,23 @@ std::unique_ptr<engine::World> build_session_world(const io::Exercise& ex, const
     bed.shape.heel_radius_m = 0.0;
     world->add_tray(bed);
   }
+  // People and trucks (after the beds a truck carries).
+  for (const io::SiteAgent& g : ex.agents) {
+    engine::AgentSpec a;
+    a.id = g.id;
+    a.kind = g.kind == io::SiteAgent::Kind::kTruck ? engine::AgentKind::kTruck : engine::AgentKind::kPerson;
+    a.route_m = g.route_m;
+    a.loop = g.loop;
+    a.pause_s = g.pause_s;
+    a.start_s = g.start_s;
+    a.speed_m_s = g.speed_m_s;
+    a.keep_clear_m = g.keep_clear_m;
+    a.leave_at_kg = g.leave_at_kg;
+    a.exit_m = g.exit_m;
+    for (std::size_t t = 0; t < ex.trucks.size(); ++t)
+      if (ex.trucks[t].id == g.bed) a.tray = static_cast<int>(t);
+    world->add_agent(a);
+  }
   return world;
 }
 
@@ -148,6 +165,16 @@ skidsim_lcm::state_t machine_state(const engine::World& w, bool controls_neutral
   s.controls_neutral = controls_neutral;
   s.active_task = "";
   s.score = 0.0;
+  const std::vector<engine::AgentState>& agents = w.agents();
+  s.num_agents = static_cast<std::int16_t>(agents.size());
+  for (std::size_t k = 0; k < agents.size(); ++k) {
+    const engine::AgentState& a = agents[k];
+    s.agent_id.push_back(w.agent_specs()[k].id);
+    s.agent_kind.push_back(w.agent_specs()[k].kind == engine::AgentKind::kTruck ? 1 : 0);
+    s.agent_phase.push_back(static_cast<std::int8_t>(a.phase));
+    s.agent_position_m.push_back({a.body.position_m.x(), a.body.position_m.y()});
+    s.agent_heading_rad.push_back(a.heading_rad);
+  }
   return s;
 }
 

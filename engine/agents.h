@@ -52,6 +52,7 @@ struct AgentState {
 // A person's and a truck's body, for steering and contact.
 inline constexpr double kPersonRadiusM = 0.3, kPersonHeightM = 1.75, kPersonMassKg = 80.0;
 inline constexpr double kTruckRadiusM = 1.6, kTruckMassKg = 12000.0;
+inline constexpr double kTruckCabLengthM = 2.2, kTruckCabHeightM = 2.9;  // in front of its bed
 // Reached: within this of a point and slower than kStoppedMS.
 inline constexpr double kReachedM = 0.1, kStoppedMS = 0.05;
 

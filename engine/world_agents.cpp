@@ -19,9 +19,7 @@ namespace skidsim::engine {
 namespace {
 
 constexpr int kAgentTagBase = 0x10000;  // btCollisionObject user index: agent k is kAgentTagBase + k
-// A dump truck's cab and chassis (a 6 m bed's truck): the cab in front of
-// the bed, the chassis under it down to the ground.
-constexpr double kCabLengthM = 2.2, kCabHeightM = 2.9;
+constexpr double kCabLengthM = kTruckCabLengthM, kCabHeightM = kTruckCabHeightM;
 
 btTransform to_bt(const Eigen::Isometry3d& pose) {
   const Eigen::Quaterniond q(pose.linear());

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -27,6 +28,30 @@ Region read_region(AttributeReader& a, const char* name) {
 Eigen::Vector2d read_point(AttributeReader& a, const char* name) {
   const Eigen::VectorXd v = a.numbers(name, 2);
   return {v[0], v[1]};
+}
+
+// "x y; x y; ...": at least `least` points, finite.
+std::vector<Eigen::Vector2d> read_points(AttributeReader& a, const char* name, std::size_t least) {
+  const std::string text = a.text(name, true);
+  std::vector<Eigen::Vector2d> points;
+  std::size_t at = 0;
+  while (at <= text.size()) {
+    const std::size_t end = std::min(text.find(';', at), text.size());
+    const std::string item = text.substr(at, end - at);
+    at = end + 1;
+    if (item.find_first_not_of(" \t\n\r") == std::string::npos) continue;
+    char* rest = nullptr;
+    const double x = std::strtod(item.c_str(), &rest);
+    char* after = nullptr;
+    const double y = std::strtod(rest, &after);
+    if (after == rest || std::string(after).find_first_not_of(" \t\n\r") != std::string::npos || !std::isfinite(x) ||
+        !std::isfinite(y))
+      a.fail(std::string("attribute '") + name + "': \"" + item + "\" is not a point (expected \"x y; x y; ...\")");
+    points.emplace_back(x, y);
+    if (points.size() > 1000) a.fail(std::string("attribute '") + name + "': more than 1000 points");
+  }
+  if (points.size() < least) a.fail(std::string("attribute '") + name + "': expected at least " + std::to_string(least) + " points \"x y; x y; ...\"");
+  return points;
 }
 
 // A file named in the exercise, resolved against its folder; it must exist.
@@ -174,11 +199,53 @@ struct Reader {
         b.reject_unknown();
         on_site(b, footprint(t.back_corner_m, t.length_m, t.width_m, t.yaw_deg), "the truck bed");
         ex.trucks.push_back(t);
+      } else if (name == "agent") {
+        read_agent(b);
       } else {
-        b.fail("unknown element (expected <soil>, <zone>, <box> or <truck>)");
+        b.fail("unknown element (expected <soil>, <zone>, <box>, <truck> or <agent>)");
       }
     }
     if (!ex.firm_ground && ex.soils.empty()) a.fail("a site without firm ground needs a <soil>");
+  }
+
+  void read_agent(AttributeReader& b) {
+    SiteAgent g;
+    g.id = b.text("id", true);
+    unique_id(b, g.id);
+    const std::string kind = b.text("kind", true);
+    if (kind == "person") {
+      g.kind = SiteAgent::Kind::kPerson;
+    } else if (kind == "truck") {
+      g.kind = SiteAgent::Kind::kTruck;
+    } else {
+      b.fail("attribute 'kind' = \"" + kind + "\": expected person or truck");
+    }
+    const bool truck = g.kind == SiteAgent::Kind::kTruck;
+    g.route_m = read_points(b, "route", 1);
+    g.start_s = b.has("start_s") ? b.number_in("start_s", 0.0, 86400.0) : 0.0;
+    g.speed_m_s = b.has("speed_m_s") ? b.number_in("speed_m_s", 0.1, truck ? 10.0 : 3.0) : (truck ? 2.5 : 1.3);
+    // People walk on the site; a truck may come from a road beyond it.
+    const Region reach(site.min() - Eigen::Vector2d::Constant(truck ? 200.0 : 0.0), site.max() + Eigen::Vector2d::Constant(truck ? 200.0 : 0.0));
+    for (const Eigen::Vector2d& p : g.route_m)
+      if (!reach.contains(p)) b.fail("attribute 'route': the point " + std::to_string(p.x()) + " " + std::to_string(p.y()) + (truck ? " is more than 200 m off the site" : " is off the site"));
+    if (truck) {
+      g.bed = b.text("bed", true);
+      const auto t = std::find_if(ex.trucks.begin(), ex.trucks.end(), [&](const TruckBed& x) { return x.id == g.bed; });
+      if (t == ex.trucks.end()) b.fail("attribute 'bed' = \"" + g.bed + "\": no <truck> with that id before this <agent>");
+      for (const SiteAgent& o : ex.agents)
+        if (o.bed == g.bed) b.fail("attribute 'bed' = \"" + g.bed + "\": agent '" + o.id + "' already carries it");
+      g.leave_at_kg = b.has("leave_at_kg") ? b.number_in("leave_at_kg", 0.0, 1e5) : 0.0;
+      if (b.has("exit")) g.exit_m = read_points(b, "exit", 1);
+      if (g.leave_at_kg > 0.0 && g.exit_m.empty()) b.fail("attribute 'leave_at_kg' needs an 'exit' to leave by");
+      for (const Eigen::Vector2d& p : g.exit_m)
+        if (!reach.contains(p)) b.fail("attribute 'exit': a point more than 200 m off the site");
+    } else {
+      g.loop = b.boolean_or("loop", false);
+      g.pause_s = b.has("pause_s") ? b.number_in("pause_s", 0.0, 3600.0) : 0.0;
+      g.keep_clear_m = b.has("keep_clear_m") ? b.number_in("keep_clear_m", 0.0, 50.0) : 6.0;
+    }
+    b.reject_unknown();
+    ex.agents.push_back(g);
   }
 
   // A length x width rectangle from `corner` along yaw: its bounds.
@@ -308,7 +375,8 @@ const std::vector<std::string>& known_metrics() {
   static const std::vector<std::string> m = {
       "completion_time_s", "material_moved_kg", "material_rate_kg_h", "spillage_kg",      "bucket_fill_per_pass",
       "collisions",        "near_misses",       "tipping_margin_violations",            "bucket_impacts",
-      "wheel_slip_time_s", "idle_time_s",       "left_work_area_s", "engine_energy_MJ", "tasks_done"};
+      "wheel_slip_time_s", "idle_time_s",       "left_work_area_s", "engine_energy_MJ", "tasks_done",
+      "people_collisions", "truck_collisions",  "min_distance_to_people_m",             "speed_near_people_s"};
   return m;
 }
 

@@ -61,6 +61,21 @@ struct TruckBed {  // an open container standing on the site
   double yaw_deg = 0.0;
   double length_m = 1.4, width_m = 2.4, floor_height_m = 0.9, wall_height_m = 0.3;
 };
+// A person or a dump truck on site (engine/agents.h): people walk their
+// route (pausing at its points; round and round with loop) and keep out
+// of a moving loader's way; a truck carries the bed of a <truck>, reverses
+// along its route to the bed's place (appended as the route's end), waits
+// there until the bed holds leave_at_kg, then drives off along its exit.
+struct SiteAgent {
+  enum class Kind { kPerson, kTruck } kind = Kind::kPerson;
+  std::string id;
+  std::vector<Eigen::Vector2d> route_m;
+  bool loop = false;
+  double pause_s = 0.0, start_s = 0.0, speed_m_s = 1.3, keep_clear_m = 6.0;
+  std::string bed;  // truck: the <truck> it carries
+  double leave_at_kg = 0.0;
+  std::vector<Eigen::Vector2d> exit_m;
+};
 struct MachineStart {
   std::string loader;  // parameter file (resolved against the exercise's folder)
   Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
@@ -126,6 +141,7 @@ struct Exercise {
   std::vector<Zone> zones;
   std::vector<BoxObstacle> boxes;
   std::vector<TruckBed> trucks;
+  std::vector<SiteAgent> agents;
   MachineStart machine;
   OperatorSource operator_source;
   std::vector<Task> tasks;

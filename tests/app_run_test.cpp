@@ -189,10 +189,68 @@ TEST(SkidsimRun, DrivingIntoAConeIsACollision) {
   EXPECT_NEAR(report["metrics"]["completion_time_s"].get<double>(), report["performance"]["simulated_s"].get<double>(), 0.011);
 }
 
+// Site safety (issue 9): the safe script keeps its distance from the
+// worker, passes and the truck leaves loaded; the unsafe one drives into
+// the worker standing in its way, at the time it reaches them, and fails.
+TEST(SkidsimRun, SiteSafetyScoresThePeopleOnSite) {
+  const std::string base = std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/site_safety";
+  nlohmann::json report[2];
+  for (int unsafe = 0; unsafe < 2; ++unsafe) {
+    const fs::path dir = fs::temp_directory_path() / ("skidsim_site_safety_" + std::to_string(unsafe));
+    fs::remove_all(dir);
+    const auto r = run_skidsim("run " + base + ".xml --script " + base + (unsafe ? ".unsafe" : "") + ".operator.xml --out " + dir.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    report[unsafe] = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+    // The state output carries the agents: at 12 s the truck is docked and
+    // the worker walking in.
+    lcm::LogFile log((dir / "session.lcmlog").string(), "r");
+    ASSERT_TRUE(log.good());
+    bool seen = false;
+    while (const lcm::LogEvent* e = log.readNextEvent()) {
+      if (e->channel != "SKIDSIM_STATE") continue;
+      skidsim_lcm::state_t st;
+      ASSERT_GE(st.decode(e->data, 0, e->datalen), 0);
+      if (seen || st.sim_time_s < 12.0) continue;
+      seen = true;
+      ASSERT_EQ(st.num_agents, 2);
+      EXPECT_EQ(st.agent_id[0], "dump_truck");
+      EXPECT_EQ(st.agent_kind[0], 1);
+      EXPECT_EQ(st.agent_phase[0], 3) << "docked";
+      EXPECT_NEAR(st.agent_position_m[0][0], 13.2, 0.1);
+      EXPECT_EQ(st.agent_id[1], "worker");
+      EXPECT_EQ(st.agent_phase[1], 1) << "walking";
+    }
+    EXPECT_TRUE(seen);
+  }
+  const auto& safe = report[0];
+  EXPECT_TRUE(safe["result"]["passed"].get<bool>()) << safe["result"].dump();
+  EXPECT_EQ(safe["metrics"]["people_collisions"], 0.0);
+  EXPECT_EQ(safe["metrics"]["near_misses"], 0.0);
+  EXPECT_GT(safe["metrics"]["min_distance_to_people_m"].get<double>(), 2.0);
+  ASSERT_EQ(safe["agents"].size(), 2u);
+  EXPECT_EQ(safe["agents"][0]["id"], "dump_truck");
+  EXPECT_GT(safe["agents"][0]["docked_at_s"].get<double>(), 0.0) << "backed in to its spot";
+  EXPECT_TRUE(safe["agents"][0]["phase"] == "leaving" || safe["agents"][0]["phase"] == "gone") << safe["agents"].dump();
+  const auto& unsafe = report[1];
+  EXPECT_FALSE(unsafe["result"]["passed"].get<bool>());
+  EXPECT_EQ(unsafe["metrics"]["people_collisions"], 1.0);
+  double hit_s = -1.0;
+  for (const auto& e : unsafe["events"])
+    if (e["kind"] == "collision" && e["text"].get<std::string>().find("'worker'") != std::string::npos) hit_s = e["time_s"];
+  std::printf("[ measured ] unsafe script: the worker hit at %.2f s; safe script: %.2f m at the closest, score %.1f (pass %.0f)\n", hit_s,
+              safe["metrics"]["min_distance_to_people_m"].get<double>(), safe["result"]["score"].get<double>(),
+              safe["result"]["pass_score"].get<double>());
+  // The worker stands in the way from about 13 s to 17 s; the bucket's
+  // front reaches x = 10.5 m at about 14.5 s.
+  EXPECT_GT(hit_s, 13.0);
+  EXPECT_LT(hit_s, 16.0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Scenarios, ShippedScenario,
                          ::testing::Values(Scenario{"driving_course", false}, Scenario{"pile_to_zone", true},
                                            Scenario{"truck_loading", true}, Scenario{"grading", true},
-                                           Scenario{"trench_backfill", true}, Scenario{"soft_slope_climb", true}),
+                                           Scenario{"trench_backfill", true}, Scenario{"soft_slope_climb", true},
+                                           Scenario{"site_safety", true}),
                          [](const ::testing::TestParamInfo<Scenario>& p) { return std::string(p.param.name); });
 
 // The optional terrain channel: every tile once at the start, then only
