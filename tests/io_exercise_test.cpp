@@ -108,7 +108,16 @@ INSTANTIATE_TEST_SUITE_P(
                 {"<truck>", "the truck bed", "off the"}},
         BadCase{"  </site>", "    <box id=\"b\" centre=\"3.5 10 0.5\" size=\"1 1 1\"/>\n  </site>",
                 {"<machine>", "within 1 m of box 'b'"}},
-        BadCase{"firm_ground=\"true\"", "firm_ground=\"false\"", {"<machine>", "neither firm ground nor soil"}}));
+        BadCase{"firm_ground=\"true\"", "firm_ground=\"false\"", {"<machine>", "neither firm ground nor soil"}},
+        BadCase{"  </site>", "    <agent id=\"w\" kind=\"robot\" route=\"1 1\"/>\n  </site>", {"<agent>", "expected person or truck"}},
+        BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1; 30 1\"/>\n  </site>", {"<agent>", "route", "off the site"}},
+        BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1; 2\"/>\n  </site>", {"<agent>", "route", "is not a point"}},
+        BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1\" speed_m_s=\"9\"/>\n  </site>", {"<agent>", "speed_m_s"}},
+        BadCase{"  </site>", "    <agent id=\"t\" kind=\"truck\" bed=\"nope\" route=\"30 1\"/>\n  </site>", {"<agent>", "no <truck> with that id"}},
+        BadCase{"  </site>",
+                "    <truck id=\"b\" back_corner=\"15 2\" length_m=\"2\" width_m=\"1.5\" floor_height_m=\"0.9\" wall_height_m=\"0.3\"/>\n"
+                "    <agent id=\"t\" kind=\"truck\" bed=\"b\" route=\"30 1\" leave_at_kg=\"100\"/>\n  </site>",
+                {"<agent>", "leave_at_kg", "exit"}}));
 
 }  // namespace
 }  // namespace skidsim::io
