@@ -322,6 +322,11 @@ int run_session(const RunJob& job) {
       applied.parking_brake = controls.parking_brake;
       log_message(log, channels.control + "_APPLIED", applied, t);
       tasks.update(*world, kStepsPerTick * engine::kStepSeconds);
+      // Spawn events: an agent held for a task comes on site once it is done.
+      for (std::size_t k = 0; k < ex.agents.size(); ++k)
+        if (!ex.agents[k].start_after.empty() && world->agent_specs()[k].held)
+          for (const TaskProgress& p : tasks.tasks())
+            if (p.id == ex.agents[k].start_after && p.done) world->release_agent(static_cast<int>(k));
       if (input.stats().watchdog_trips > watchdog_trips_seen) {
         watchdog_trips_seen = input.stats().watchdog_trips;
         tasks.add_event(t, "watchdog", "no command from the operator: levers to neutral, parking brake on", 1);

@@ -112,6 +112,7 @@ std::unique_ptr<engine::World> build_session_world(const io::Exercise& ex, const
     a.loop = g.loop;
     a.pause_s = g.pause_s;
     a.start_s = g.start_s;
+    a.held = !g.start_after.empty();  // released by the session when its task is done
     a.speed_m_s = g.speed_m_s;
     a.keep_clear_m = g.keep_clear_m;
     a.leave_at_kg = g.leave_at_kg;

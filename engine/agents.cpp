@@ -138,7 +138,7 @@ void step_agents(const std::vector<AgentSpec>& specs, std::vector<AgentState>& s
     const AgentSpec& spec = specs[k];
     AgentState& s = states[k];
     if (s.phase == AgentPhase::kNotYet) {
-      if (t_s < spec.start_s || spec.route_m.empty()) continue;
+      if (spec.held || t_s < spec.start_s || spec.route_m.empty()) continue;
       s.phase = spec.route_m.size() > 1 ? AgentPhase::kMoving : AgentPhase::kPausing;
       s.next_point = 1;
       s.phase_since_s = t_s;

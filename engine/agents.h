@@ -29,6 +29,7 @@ struct AgentSpec {
   bool loop = false;          // person: from the last point back to the first, again and again
   double pause_s = 0.0;       // person: standing at each point
   double start_s = 0.0;       // appears (at the first point) at this time
+  bool held = false;          // waits to be released (World::release_agent) whatever start_s says
   double speed_m_s = 1.3;     // top speed
   double keep_clear_m = 6.0;  // person: moves out of the way of a moving loader closer than this
   // Truck: the bed it carries (a tray of the world, posed at the loading

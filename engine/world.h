@@ -125,6 +125,8 @@ class World {
   int add_agent(const AgentSpec& spec);
   const std::vector<AgentSpec>& agent_specs() const { return agent_specs_; }
   const std::vector<AgentState>& agents() const { return agents_; }
+  // Lets a held agent (AgentSpec::held) come on site from the next step.
+  void release_agent(int k);
   // The agents a part of the machine touches after the last step.
   void agents_touching_machine(std::vector<int>& out) const;
 

@@ -139,6 +139,13 @@ void World::move_agents() {
   }
 }
 
+void World::release_agent(int k) {
+  AgentSpec& spec = agent_specs_.at(static_cast<std::size_t>(k));
+  if (!spec.held) return;
+  spec.held = false;
+  spec.start_s = time_s();
+}
+
 void World::agents_touching_machine(std::vector<int>& out) const {
   out.clear();
   const int n = static_cast<int>(agent_specs_.size());

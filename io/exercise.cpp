@@ -200,7 +200,7 @@ struct Reader {
         on_site(b, footprint(t.back_corner_m, t.length_m, t.width_m, t.yaw_deg), "the truck bed");
         ex.trucks.push_back(t);
       } else if (name == "agent") {
-        read_agent(b);
+        read_agent(b, c);
       } else {
         b.fail("unknown element (expected <soil>, <zone>, <box>, <truck> or <agent>)");
       }
@@ -208,8 +208,9 @@ struct Reader {
     if (!ex.firm_ground && ex.soils.empty()) a.fail("a site without firm ground needs a <soil>");
   }
 
-  void read_agent(AttributeReader& b) {
+  void read_agent(AttributeReader& b, const tinyxml2::XMLElement* element) {
     SiteAgent g;
+    g.element = element;
     g.id = b.text("id", true);
     unique_id(b, g.id);
     const std::string kind = b.text("kind", true);
@@ -223,6 +224,7 @@ struct Reader {
     const bool truck = g.kind == SiteAgent::Kind::kTruck;
     g.route_m = read_points(b, "route", 1);
     g.start_s = b.has("start_s") ? b.number_in("start_s", 0.0, 86400.0) : 0.0;
+    g.start_after = b.text("start_after", false);  // checked once the tasks are read
     g.speed_m_s = b.has("speed_m_s") ? b.number_in("speed_m_s", 0.1, truck ? 10.0 : 3.0) : (truck ? 2.5 : 1.3);
     // People walk on the site; a truck may come from a road beyond it.
     const Region reach(site.min() - Eigen::Vector2d::Constant(truck ? 200.0 : 0.0), site.max() + Eigen::Vector2d::Constant(truck ? 200.0 : 0.0));
@@ -490,6 +492,13 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
   need(have_machine, "machine");
   need(have_operator, "operator");
   if (r.ex.tasks.empty()) fail_at(path, root, "an exercise needs at least one <task>");
+  for (SiteAgent& g : r.ex.agents) {
+    const auto* e = static_cast<const tinyxml2::XMLElement*>(g.element);
+    g.element = nullptr;  // the document goes with this function
+    if (!g.start_after.empty() &&
+        std::none_of(r.ex.tasks.begin(), r.ex.tasks.end(), [&](const Task& t) { return t.id == g.start_after; }))
+      fail_at(path, e, "attribute 'start_after' = \"" + g.start_after + "\": no <task> with that id");
+  }
   return r.ex;
 }
 

@@ -72,6 +72,8 @@ struct SiteAgent {
   std::vector<Eigen::Vector2d> route_m;
   bool loop = false;
   double pause_s = 0.0, start_s = 0.0, speed_m_s = 1.3, keep_clear_m = 6.0;
+  std::string start_after;  // a task: the agent comes on site once it is done (a spawn event)
+  const void* element = nullptr;  // (while reading: for messages)
   std::string bed;  // truck: the <truck> it carries
   double leave_at_kg = 0.0;
   std::vector<Eigen::Vector2d> exit_m;

@@ -106,6 +106,22 @@ TEST(Agents, ATruckReversesToItsSpotDocksWaitsForItsLoadAndLeaves) {
   EXPECT_EQ(run.states[0].phase, AgentPhase::kGone);
 }
 
+// A spawn event: a held agent stays off site, whatever its start time,
+// until it is released.
+TEST(Agents, AHeldAgentWaitsForItsRelease) {
+  AgentSpec walker;
+  walker.route_m = {{0, 0}, {3, 0}};
+  walker.held = true;
+  AgentRun run({walker});
+  for (int k = 0; k < 1000; ++k) run.step({});
+  EXPECT_EQ(run.states[0].phase, AgentPhase::kNotYet);
+  run.specs[0].held = false;  // what World::release_agent does (with start_s = now)
+  run.specs[0].start_s = run.t;
+  for (int k = 0; k < 3000; ++k) run.step({});
+  EXPECT_TRUE(on_site(run.states[0]));
+  EXPECT_LT((run.states[0].body.position_m - Eigen::Vector2d(3, 0)).norm(), kReachedM);
+}
+
 TEST(Agents, RepeatBitForBit) {
   const auto go = [] {
     AgentSpec a, b, t;

@@ -110,6 +110,7 @@ INSTANTIATE_TEST_SUITE_P(
                 {"<machine>", "within 1 m of box 'b'"}},
         BadCase{"firm_ground=\"true\"", "firm_ground=\"false\"", {"<machine>", "neither firm ground nor soil"}},
         BadCase{"  </site>", "    <agent id=\"w\" kind=\"robot\" route=\"1 1\"/>\n  </site>", {"<agent>", "expected person or truck"}},
+        BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1\" start_after=\"mvoe\"/>\n  </site>", {"<agent>", "start_after", "no <task>"}},
         BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1; 30 1\"/>\n  </site>", {"<agent>", "route", "off the site"}},
         BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1; 2\"/>\n  </site>", {"<agent>", "route", "is not a point"}},
         BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1\" speed_m_s=\"9\"/>\n  </site>", {"<agent>", "speed_m_s"}},
