@@ -45,7 +45,9 @@ constexpr int kStepsPerTiles = 250;     // terrain tiles (when asked for) at 2 H
 constexpr int kMissedTicksToEnd = 25;   // lockstep: this many ticks in a row without a command ends the session
 
 // FNV-1a over the bytes of what defines the final state: the terrain, the
-// bucket's and beds' loads, every link's pose and the chassis's velocity.
+// bucket's and beds' loads, every link's pose and the chassis's velocity,
+// and where each agent is (none: nothing added, so exercises without
+// agents keep their hashes).
 std::uint64_t state_hash(const engine::World& w) {
   std::uint64_t h = 1469598103934665603ull;
   const auto add = [&h](const void* data, std::size_t n) {
@@ -67,6 +69,11 @@ std::uint64_t state_hash(const engine::World& w) {
   }
   const Eigen::Vector3d v = w.loader().chassis_velocity();
   add(v.data(), sizeof(double) * 3);
+  for (const engine::AgentState& a : w.agents()) {
+    add(a.body.position_m.data(), sizeof(double) * 2);
+    add(a.body.velocity_m_s.data(), sizeof(double) * 2);
+    add(&a.heading_rad, sizeof a.heading_rad);
+  }
   return h;
 }
 

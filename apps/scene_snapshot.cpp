@@ -101,24 +101,17 @@ void for_each_site_part(const engine::World& world, F&& f) {
   }
   const std::vector<engine::AgentSpec>& specs = world.agent_specs();
   for (std::size_t k = 0; k < specs.size(); ++k) {
-    const engine::AgentState& a = world.agents()[k];
-    const bool present = engine::on_site(a);
     if (specs[k].kind == engine::AgentKind::kTruck && specs[k].tray >= 0) {
       const terrain::BodyAutomaton& tray = world.tray(specs[k].tray);
-      const Eigen::Isometry3d frame = tray.pose();
-      const double L = tray.shape().length_m, W = tray.shape().width_m, floor_z = frame.translation().z();
-      f(box_pose(frame, {L + 0.05 + 0.5 * engine::kTruckCabLengthM, 0.5 * W, 0.5 * engine::kTruckCabHeightM - floor_z},
+      const double L = tray.shape().length_m, W = tray.shape().width_m;
+      f(box_pose(world.agent_pose(static_cast<int>(k)), {0.5 * L + 0.05 + 0.5 * engine::kTruckCabLengthM, 0.0, 0.5 * engine::kTruckCabHeightM},
                  {engine::kTruckCabLengthM, W, engine::kTruckCabHeightM}),
         Eigen::Vector3f(0.85f, 0.85f, 0.82f));
       continue;
     }
-    // A person in a high-visibility vest: body and head; out of sight when
-    // not on site.
-    Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
-    frame.linear() = Eigen::AngleAxisd(a.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    const Eigen::Vector3d at(a.body.position_m.x(), a.body.position_m.y(),
-                             present ? ground_height_m(world, Eigen::Vector3d(a.body.position_m.x(), a.body.position_m.y(), 0.0)) : -1e4);
-    frame.translation() = at;
+    // A person in a high-visibility vest with a hard hat; out of sight
+    // (far below) when not on site.
+    const Eigen::Isometry3d frame = world.agent_pose(static_cast<int>(k));
     const double h = engine::kPersonHeightM;
     f(box_pose(frame, {0.0, 0.0, 0.42 * h}, {0.3, 0.46, 0.84 * h}), Eigen::Vector3f(1.0f, 0.45f, 0.05f));
     f(box_pose(frame, {0.0, 0.0, 0.92 * h}, {0.22, 0.2, 0.16 * h}), Eigen::Vector3f(0.95f, 0.85f, 0.2f));  // hard hat

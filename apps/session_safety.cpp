@@ -30,7 +30,13 @@ void SafetyMonitor::update(const engine::World& world, double t_s, double dt_s, 
   const bool moving = speed > 0.2;
   bool someone_near = false;
   for (std::size_t k = 0; k < specs.size(); ++k) {
-    const bool touching = std::find(touching_now_.begin(), touching_now_.end(), static_cast<int>(k)) != touching_now_.end();
+    // Bullet's contacts (the chassis, the bucket, a truck's parts), or a
+    // person inside the machine's footprint: the wheels are probes, not
+    // colliders, so a wheel over a foot shows only here.
+    const bool inside = specs[k].kind == engine::AgentKind::kPerson && engine::on_site(agents[k]) &&
+                        distance_to_machine_m(world, agents[k].body.position_m) <= engine::kPersonRadiusM;
+    const bool touching =
+        inside || std::find(touching_now_.begin(), touching_now_.end(), static_cast<int>(k)) != touching_now_.end();
     apart_s_[k] = touching ? 0.0 : apart_s_[k] + dt_s;
     const bool person = specs[k].kind == engine::AgentKind::kPerson;
     // A contact that lasts counts once; a new one after 1 s clear.

@@ -1,5 +1,6 @@
 #include "engine/agents.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace skidsim::engine {
@@ -11,6 +12,25 @@ constexpr double kWaypointM = 0.6;        // a point passed through (not stopped
 constexpr double kLoaderMovingMS = 0.2;   // a loader slower than this is standing
 
 double direction(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
+double wrap(double angle) { return std::remainder(angle, 2.0 * kPi); }
+
+// Seek at no more than `speed`.
+Eigen::Vector2d seek_at(const SteeringAgent& b, const Eigen::Vector2d& target, double speed) {
+  SteeringAgent capped = b;
+  capped.max_speed_m_s = std::min(b.max_speed_m_s, speed);
+  return seek(capped, target);
+}
+
+// Never into the machine, moving or not: away from its footprint's nearest
+// point once closer than kPersonClearM.
+Eigen::Vector2d avoid_machine(const SteeringAgent& b, const SiteView& site) {
+  Eigen::Vector2d nearest;
+  const double gap = footprint_distance_m(site, b.position_m, &nearest) - b.radius_m;
+  if (gap > kPersonClearM) return Eigen::Vector2d::Zero();
+  Eigen::Vector2d away = b.position_m - nearest;
+  away = away.norm() > 1e-9 ? Eigen::Vector2d(away.normalized()) : Eigen::Vector2d::UnitY();
+  return (away * b.max_speed_m_s - b.velocity_m_s) * (b.mass_kg / kSteeringResponseS);
+}
 
 // Prioritised force budget (Reynolds): the first behaviours take what
 // they need of the largest force, the later ones what is left.
@@ -41,6 +61,7 @@ Eigen::Vector2d person_force(const AgentSpec& spec, const AgentState& s, const S
                              const std::vector<SteeringAgent>& everyone, const Eigen::Vector2d* target, bool stop_there) {
   const SteeringAgent& b = s.body;
   Eigen::Vector2d f = Eigen::Vector2d::Zero();
+  add_within_budget(f, avoid_machine(b, site), b.max_force_N);
   add_within_budget(f, keep_clear(b, site, spec.keep_clear_m), b.max_force_N);
   add_within_budget(f, separation(b, everyone, kNeighbourhoodM), b.max_force_N);
   if (target) {
@@ -74,18 +95,44 @@ void step_person(const AgentSpec& spec, AgentState& s, const SiteView& site, con
   }
 }
 
+// The route still to drive from the agent to the end of `points`.
+double route_left_m(const Eigen::Vector2d& at, const std::vector<Eigen::Vector2d>& points, int next) {
+  double d = (points[static_cast<std::size_t>(next)] - at).norm();
+  for (std::size_t k = static_cast<std::size_t>(next) + 1; k < points.size(); ++k) d += (points[k] - points[k - 1]).norm();
+  return d;
+}
+
+// A truck holds (brakes to a stop) while the machine is within
+// kTruckClearM of where the truck is heading: a truck driver waits.
+bool loader_in_the_way(const SteeringAgent& b, const Eigen::Vector2d& target, const SiteView& site) {
+  const Eigen::Vector2d to = target - b.position_m;
+  const double d = to.norm();
+  const Eigen::Vector2d dir = d > 1e-9 ? Eigen::Vector2d(to / d) : Eigen::Vector2d::Zero();
+  for (double ahead = 0.0; ahead <= std::min(d, 2.0 * kTruckClearM) + 1e-9; ahead += kTruckClearM)
+    if (footprint_distance_m(site, b.position_m + dir * ahead) < kTruckRadiusM + kTruckClearM) return true;
+  return false;
+}
+
 void step_truck(const AgentSpec& spec, AgentState& s, std::size_t k, const SiteView& site, double t_s, double dt_s) {
   SteeringAgent& b = s.body;
+  const double brake_m_s2 = b.max_force_N / b.mass_kg;
   if (s.phase == AgentPhase::kMoving) {  // reversing in
     const int n = static_cast<int>(spec.route_m.size());
     const Eigen::Vector2d& target = spec.route_m[static_cast<std::size_t>(s.next_point)];
     const bool last = s.next_point == n - 1;
-    integrate(b, last ? arrive(b, target, 4.0) : seek(b, target), dt_s);
-    if (b.velocity_m_s.norm() > 0.1) s.heading_rad = direction(b.velocity_m_s) + kPi;
+    // No faster than it can stop in the route left: no overshoot however
+    // short the last leg.
+    const double left = route_left_m(b.position_m, spec.route_m, s.next_point);
+    const double speed = std::sqrt(2.0 * brake_m_s2 * left);
+    Eigen::Vector2d f = last ? arrive(b, target, 4.0) : seek_at(b, target, speed);
+    if (loader_in_the_way(b, target, site)) f = arrive(b, b.position_m, 1.0);
+    integrate(b, f, dt_s);
+    if (b.velocity_m_s.norm() > 0.1) s.heading_rad = wrap(direction(b.velocity_m_s) + kPi);
     const double d = (b.position_m - target).norm();
     if (last && d < kReachedM && b.velocity_m_s.norm() < kStoppedMS) {
       s.phase = AgentPhase::kDocked;
       s.docked_at_s = s.phase_since_s = t_s;
+      s.heading_rad = spec.dock_heading_rad;  // square to its bed's place
       b.velocity_m_s.setZero();
     } else if (!last && d < 1.0) {
       ++s.next_point;
@@ -100,7 +147,9 @@ void step_truck(const AgentSpec& spec, AgentState& s, std::size_t k, const SiteV
     }
   } else if (s.phase == AgentPhase::kLeaving) {  // forwards, out
     const Eigen::Vector2d& target = spec.exit_m[static_cast<std::size_t>(s.next_point)];
-    integrate(b, seek(b, target), dt_s);
+    Eigen::Vector2d f = seek(b, target);
+    if (loader_in_the_way(b, target, site)) f = arrive(b, b.position_m, 1.0);
+    integrate(b, f, dt_s);
     if (b.velocity_m_s.norm() > 0.1) s.heading_rad = direction(b.velocity_m_s);
     if ((b.position_m - target).norm() < 1.0 && ++s.next_point == static_cast<int>(spec.exit_m.size())) {
       s.phase = AgentPhase::kGone;
@@ -110,6 +159,16 @@ void step_truck(const AgentSpec& spec, AgentState& s, std::size_t k, const SiteV
 }
 
 }  // namespace
+
+double footprint_distance_m(const SiteView& site, const Eigen::Vector2d& p, Eigen::Vector2d* nearest) {
+  const Eigen::Vector2d a = site.loader_rear_m, ab = site.loader_front_m - site.loader_rear_m;
+  const double u = ab.squaredNorm() > 0.0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+  const Eigen::Vector2d on_axis = a + u * ab;
+  const Eigen::Vector2d out = p - on_axis;
+  const double d = out.norm();
+  if (nearest) *nearest = d > 1e-9 ? Eigen::Vector2d(on_axis + out * (std::min(site.loader_half_width_m, d) / d)) : on_axis;
+  return std::max(0.0, d - site.loader_half_width_m);
+}
 
 std::vector<AgentState> start_agents(const std::vector<AgentSpec>& specs) {
   std::vector<AgentState> states(specs.size());
@@ -122,7 +181,8 @@ std::vector<AgentState> start_agents(const std::vector<AgentSpec>& specs) {
     s.body.max_speed_m_s = spec.speed_m_s;
     s.body.max_force_N = s.body.mass_kg * (truck ? 1.5 : 2.5);  // m/s^2 a truck and a person manage
     if (!spec.route_m.empty()) s.body.position_m = spec.route_m.front();
-    if (spec.route_m.size() > 1) s.heading_rad = direction(spec.route_m[1] - spec.route_m[0]) + (truck ? kPi : 0.0);
+    if (spec.route_m.size() > 1) s.heading_rad = wrap(direction(spec.route_m[1] - spec.route_m[0]) + (truck ? kPi : 0.0));
+    if (truck && spec.route_m.size() == 1) s.heading_rad = spec.dock_heading_rad;
   }
   return states;
 }

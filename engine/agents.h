@@ -37,6 +37,7 @@ struct AgentSpec {
   int tray = -1;
   double leave_at_kg = 0.0;
   std::vector<Eigen::Vector2d> exit_m;
+  double dock_heading_rad = 0.0;  // the bed's heading at its spot (set by the world)
 };
 
 enum class AgentPhase { kNotYet, kMoving, kPausing, kDocked, kLeaving, kGone };
@@ -57,10 +58,21 @@ inline constexpr double kTruckCabLengthM = 2.2, kTruckCabHeightM = 2.9;  // in f
 // Reached: within this of a point and slower than kStoppedMS.
 inline constexpr double kReachedM = 0.1, kStoppedMS = 0.05;
 
+// The distance from a point to the machine's footprint (0 inside) and the
+// footprint's nearest point.
+double footprint_distance_m(const struct SiteView& site, const Eigen::Vector2d& p, Eigen::Vector2d* nearest = nullptr);
+// Clear of the loader: a truck stops while the machine is this close to
+// where it is going; a person never comes closer than kPersonClearM.
+inline constexpr double kTruckClearM = 3.0, kPersonClearM = 1.0;
+
 // What the agents see of the rest of the site each step.
 struct SiteView {
   Eigen::Vector2d loader_m = Eigen::Vector2d::Constant(1e9);
   Eigen::Vector2d loader_velocity_m_s = Eigen::Vector2d::Zero();
+  // The machine's footprint: a capsule of this half width around the
+  // segment from behind its chassis to its bucket.
+  Eigen::Vector2d loader_rear_m = Eigen::Vector2d::Constant(1e9), loader_front_m = Eigen::Vector2d::Constant(1e9);
+  double loader_half_width_m = 0.95;
   // Per agent with a bed (by agent index): the mass in its bed.
   const std::vector<double>* bed_load_kg = nullptr;
 };

@@ -421,7 +421,7 @@ void World::step(const vehicle::LoaderControls& controls) {
       loader_->add_force(bucket_.link, Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N), bucket_.load_point_world_m());
   }
   if (grid_) soil_on_machine();
-  if (!agents_.empty()) move_agents();
+  if (!agents_.empty()) move_agents(true);
   loader_->pre_step(controls, kStepSeconds, grid_ ? soft_.data() : nullptr);
   // maxSubSteps = 0: exactly one internal step of kStepSeconds, no interpolation.
   world_->stepSimulation(kStepSeconds, 0, kStepSeconds);

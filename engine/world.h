@@ -125,6 +125,9 @@ class World {
   int add_agent(const AgentSpec& spec);
   const std::vector<AgentSpec>& agent_specs() const { return agent_specs_; }
   const std::vector<AgentState>& agents() const { return agents_; }
+  // An agent's frame: its centre on the ground, x its heading (far below
+  // the site when it is not on it).
+  Eigen::Isometry3d agent_pose(int k) const;
   // Lets a held agent (AgentSpec::held) come on site from the next step.
   void release_agent(int k);
   // The agents a part of the machine touches after the last step.
@@ -207,7 +210,7 @@ class World {
   std::vector<Eigen::Isometry3d> truck_bed_in_agent_;  // per agent: its tray's frame in the agent's (trucks)
   std::vector<double> bed_load_kg_;
   std::vector<SteeringAgent> agent_scratch_;
-  void move_agents();
+  void move_agents(bool advance);  // advance: step the plans first
   double ground_height_at(const Eigen::Vector2d& xy) const;
 };
 

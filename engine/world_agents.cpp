@@ -69,6 +69,9 @@ int World::add_agent(const AgentSpec& spec_in) {
   } else {
     if (spec.tray < 0 || spec.tray >= tray_count())
       throw std::invalid_argument("truck '" + spec.id + "': its bed is not a tray of this world");
+    for (const AgentSpec& o : agent_specs_)
+      if (o.kind == AgentKind::kTruck && o.tray == spec.tray)
+        throw std::invalid_argument("truck '" + spec.id + "': its bed is carried by '" + o.id + "' already");
     // The agent's frame: the bed's centre on the ground, x along the bed
     // towards the cab. The tray's pose now is the truck docked.
     const terrain::BodyAutomaton& bed = tray(spec.tray);
@@ -79,6 +82,7 @@ int World::add_agent(const AgentSpec& spec_in) {
     const double heading = std::atan2(x_axis.y(), x_axis.x());
     const double ground = ground_height_at(centre.head<2>());
     const Eigen::Isometry3d docked = agent_frame(centre.head<2>(), ground, heading);
+    spec.dock_heading_rad = heading;
     bed_in_agent = docked.inverse() * tray_pose;
     if ((spec.route_m.back() - centre.head<2>()).norm() > 0.01) spec.route_m.push_back(centre.head<2>());
     // The bed's walls move with the truck, and count as the truck.
@@ -101,20 +105,30 @@ int World::add_agent(const AgentSpec& spec_in) {
   agent_specs_.push_back(spec);
   agent_bodies_.push_back(std::move(bodies));
   truck_bed_in_agent_.push_back(bed_in_agent);
-  agents_ = start_agents(agent_specs_);  // (adding agents happens before the first step)
+  agents_.push_back(start_agents({spec}).front());  // the others go on as they were
   bed_load_kg_.assign(agent_specs_.size(), 0.0);
   agent_scratch_.reserve(agent_specs_.size());
-  move_agents();  // into place, without stepping their plans
+  move_agents(false);  // into place, without stepping their plans
   return k;
 }
 
-void World::move_agents() {
+Eigen::Isometry3d World::agent_pose(int k) const {
+  const AgentState& s = agents_.at(static_cast<std::size_t>(k));
+  // Not yet there, or gone: far below the site, out of every contact.
+  const double z = on_site(s) ? ground_height_at(s.body.position_m) : -1e4;
+  return agent_frame(s.body.position_m, z, s.heading_rad);
+}
+
+void World::move_agents(bool advance) {
   const double t = time_s();
-  if (steps_ > 0 || t > 0.0) {
+  if (advance) {
     SiteView site;
     const Eigen::Isometry3d chassis = loader_->link_pose(0);
     site.loader_m = chassis.translation().head<2>();
     site.loader_velocity_m_s = loader_->chassis_velocity().head<2>();
+    const int bucket = static_cast<int>(loader_->description().links.size()) - 1;
+    site.loader_rear_m = (chassis * Eigen::Vector3d(-1.3, 0.0, 0.0)).head<2>();
+    site.loader_front_m = (loader_->link_pose(bucket) * Eigen::Vector3d(0.5, 0.0, 0.0)).head<2>();
     for (std::size_t k = 0; k < agent_specs_.size(); ++k)
       bed_load_kg_[k] = agent_specs_[k].tray >= 0 ? tray(agent_specs_[k].tray).material_mass_kg() : 0.0;
     site.bed_load_kg = &bed_load_kg_;
@@ -122,10 +136,7 @@ void World::move_agents() {
   }
   for (std::size_t k = 0; k < agents_.size(); ++k) {
     const AgentState& s = agents_[k];
-    // Not yet there, or gone: far below the site, out of every contact.
-    const bool present = on_site(s);
-    const double z = present ? ground_height_at(s.body.position_m) : -1e4;
-    const Eigen::Isometry3d frame = agent_frame(s.body.position_m, z, s.heading_rad);
+    const Eigen::Isometry3d frame = agent_pose(static_cast<int>(k));
     for (const AgentBody& b : agent_bodies_[k]) {
       const btTransform pose = to_bt(frame * b.local);
       b.object->setWorldTransform(pose);

@@ -209,6 +209,7 @@ struct Reader {
   }
 
   void read_agent(AttributeReader& b, const tinyxml2::XMLElement* element) {
+    if (ex.agents.size() >= 1000) b.fail("more than 1000 <agent>s");
     SiteAgent g;
     g.element = element;
     g.id = b.text("id", true);

@@ -106,6 +106,33 @@ TEST(Agents, ATruckReversesToItsSpotDocksWaitsForItsLoadAndLeaves) {
   EXPECT_EQ(run.states[0].phase, AgentPhase::kGone);
 }
 
+// A truck stops short while the loader stands in its way, and backs in
+// once it has gone; the heading at its spot is the bed's.
+TEST(Agents, ATruckWaitsWhileTheLoaderIsInItsWay) {
+  AgentSpec truck;
+  truck.kind = AgentKind::kTruck;
+  truck.speed_m_s = 2.5;
+  truck.route_m = {{30, 10}, {12, 10}};
+  truck.dock_heading_rad = 0.05;
+  AgentRun run({truck});
+  SiteView site;
+  site.loader_rear_m = Eigen::Vector2d(9.0, 10.0);  // parked across the loading spot
+  site.loader_front_m = Eigen::Vector2d(9.0, 13.0);
+  double closest = 1e9;
+  for (int k = 0; k < 10000; ++k) {
+    run.step(site);
+    closest = std::min(closest, footprint_distance_m(site, run.states[0].body.position_m));
+  }
+  std::printf("[ measured ] truck held %.2f m from a loader parked in its way\n", closest);
+  EXPECT_EQ(run.states[0].phase, AgentPhase::kMoving);
+  EXPECT_GT(closest, kTruckRadiusM);
+  EXPECT_LT(run.states[0].body.velocity_m_s.norm(), 0.01);
+  site.loader_rear_m = site.loader_front_m = Eigen::Vector2d(0.0, 30.0);  // gone
+  for (int k = 0; k < 10000; ++k) run.step(site);
+  EXPECT_EQ(run.states[0].phase, AgentPhase::kDocked);
+  EXPECT_EQ(run.states[0].heading_rad, 0.05);
+}
+
 // A spawn event: a held agent stays off site, whatever its start time,
 // until it is released.
 TEST(Agents, AHeldAgentWaitsForItsRelease) {

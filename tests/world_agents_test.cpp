@@ -31,7 +31,7 @@ TEST(WorldAgents, TheMachineMeetsAPersonWithoutBeingPushed) {
       engine::AgentSpec person;
       person.id = "bystander";
       person.route_m = {{4.0, 0.0}};
-      person.keep_clear_m = 0.0;  // stands still: the machine drives into them
+      person.keep_clear_m = 0.0;  // does not look up: steps aside only at the last moment
       worlds.back()->add_agent(person);
     }
   }
@@ -44,10 +44,10 @@ TEST(WorldAgents, TheMachineMeetsAPersonWithoutBeingPushed) {
   }
   std::printf("[ measured ] the machine at half speed reaches a person 4 m ahead at %.2f s\n", first_contact_s);
   EXPECT_GT(first_contact_s, 1.0);
-  EXPECT_LT(first_contact_s, 5.0);
+  EXPECT_LT(first_contact_s, 5.5);
   const Eigen::Isometry3d a = worlds[0]->loader().link_pose(0), b = worlds[1]->loader().link_pose(0);
   EXPECT_EQ(a.matrix(), b.matrix()) << "no push from a person: the same motion bit for bit";
-  EXPECT_EQ(worlds[1]->agents()[0].body.position_m, Eigen::Vector2d(4.0, 0.0));
+  EXPECT_GT((worlds[1]->agents()[0].body.position_m - Eigen::Vector2d(4.0, 0.0)).norm(), 1.0) << "they tried to get away";
 }
 
 TEST(WorldAgents, ATruckCarriesItsBedToTheSpotAndAwayWithItsLoad) {
