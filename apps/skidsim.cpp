@@ -16,6 +16,7 @@
 #include "apps/operator_job.h"
 #include "apps/render_job.h"
 #include "apps/review_job.h"
+#include "apps/batch_job.h"
 #include "apps/run_job.h"
 #include "apps/session_tasks.h"
 #include "apps/session_world.h"
@@ -259,6 +260,15 @@ int main(int argc, char** argv) {
   review_cmd->add_option("--backend", review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
   review_cmd->add_option("--exercise", review_job.exercise_path, "The exercise file (default: the one report.json names)");
 
+  skidsim::apps::BatchJob batch_job;
+  CLI::App* batch_cmd = app.add_subcommand(
+      "batch", "Run many sessions at once, each `skidsim run` of a line of LIST (its arguments; each needs\n"
+               "--script or --replay), at most --jobs at a time, each into OUT/NNN_exercise; then batch.json");
+  batch_cmd->add_option("list", batch_job.list_path, "The list: one session's `skidsim run` arguments per line")->required();
+  batch_cmd->add_option("--out", batch_job.out_dir, "Folder for the run directories and batch.json")->capture_default_str();
+  batch_cmd->add_option("--jobs", batch_job.jobs, "Sessions at a time (default: the machine's cores)");
+  batch_cmd->add_option("--index", batch_job.index, "Run only entry K (1-based): one task of a cluster's array job");
+
   skidsim::apps::OperatorJob operator_job;
   CLI::App* operator_cmd = app.add_subcommand(
       "operator", "Play an operator script as a process of its own: listen to the simulator's state over LCM and\n"
@@ -310,6 +320,7 @@ int main(int argc, char** argv) {
     if (*operator_cmd) return skidsim::apps::run_operator(operator_job);
     if (*render_cmd) return skidsim::apps::render_frame(render_job);
     if (*review_cmd) return skidsim::apps::review_session(review_job);
+    if (*batch_cmd) return skidsim::apps::run_batch(batch_job);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);
