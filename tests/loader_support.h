@@ -7,6 +7,7 @@
 
 #include "engine/world.h"
 #include "io/loader_files.h"
+#include "io/soil_table.h"
 
 namespace skidsim::testing {
 
@@ -15,6 +16,12 @@ inline constexpr double kPi = 3.14159265358979323846;
 inline const vehicle::LoaderDescription& shipped_loader() {
   static const vehicle::LoaderDescription d = io::load_loader(io::default_loader_path());
   return d;
+}
+
+// The soil table's dry sand (flow and terramechanics).
+inline const io::SoilRecord& dry_sand() {
+  static const io::SoilRecord s = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
+  return s;
 }
 
 // Steps for `seconds` of simulated time with fixed controls.

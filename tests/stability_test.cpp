@@ -14,10 +14,7 @@
 namespace skidsim::testing {
 namespace {
 
-const io::SoilRecord& sand() {
-  static const io::SoilRecord s = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
-  return s;
-}
+const io::SoilRecord& sand() { return dry_sand(); }
 
 vehicle::LoaderControls braked() {
   vehicle::LoaderControls c;
