@@ -17,6 +17,7 @@
 #include "apps/render_job.h"
 #include "apps/review_job.h"
 #include "apps/batch_job.h"
+#include "apps/perf_report.h"
 #include "apps/run_job.h"
 #include "apps/session_tasks.h"
 #include "apps/session_world.h"
@@ -288,6 +289,12 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--filter", bench_filter, "Regular expression selecting benchmarks");
   bench_cmd->add_option("--min-time", bench_min_time, "Minimum seconds per benchmark");
   bench_cmd->add_option("--out", bench_out, "Also write the results as JSON to this file");
+  skidsim::apps::PerfReportJob report_job;
+  CLI::App* report_cmd = bench_cmd->add_subcommand(
+      "report", "Measure speed against error (ladders of cell sizes, error against each case's reference, cost per\n"
+                "simulated second) and write docs/performance.md with its SVG plots");
+  report_cmd->add_option("--out", report_job.out_path, "The page to write (the plots go beside it)")->capture_default_str();
+  report_cmd->add_flag("--quick", report_job.quick, "Short ladders (for a quick look or a test)");
 
   std::string loader_path = skidsim::io::default_loader_path();
   std::string check_path;
@@ -321,6 +328,7 @@ int main(int argc, char** argv) {
     if (*render_cmd) return skidsim::apps::render_frame(render_job);
     if (*review_cmd) return skidsim::apps::review_session(review_job);
     if (*batch_cmd) return skidsim::apps::run_batch(batch_job);
+    if (*report_cmd) return skidsim::apps::write_perf_report(report_job);
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);
