@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "render/primitives.h"
+
 namespace skidsim::apps {
 namespace {
 
@@ -28,27 +30,6 @@ render::Mesh flat_mesh(const vehicle::VisualMesh& v) {
   return m;
 }
 
-// A cube from -0.5 to 0.5, flat-shaded.
-render::Mesh unit_cube() {
-  render::Mesh m;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int sign = -1; sign <= 1; sign += 2) {
-      Eigen::Vector3f n = Eigen::Vector3f::Zero();
-      n[axis] = static_cast<float>(sign);
-      const Eigen::Vector3f u = Eigen::Vector3f::Unit((axis + 1) % 3), w = Eigen::Vector3f::Unit((axis + 2) % 3);
-      const auto base = static_cast<std::uint32_t>(m.positions_m.size());
-      for (const auto& [a, b] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
-        m.positions_m.push_back(0.5f * (n + static_cast<float>(a) * u + static_cast<float>(b) * w));
-        m.normals.push_back(n);
-      }
-      if (sign > 0) {
-        m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-      } else {
-        m.indices.insert(m.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-      }
-    }
-  return m;
-}
 
 Eigen::Affine3d box_pose(const Eigen::Isometry3d& frame, const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
   Eigen::Affine3d a = Eigen::Affine3d::Identity();
@@ -144,7 +125,7 @@ render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
     s.meshes.push_back(flat_mesh(v));
     s.instances.push_back({static_cast<int>(s.meshes.size()) - 1, pose, colour});
   });
-  s.meshes.push_back(unit_cube());
+  s.meshes.push_back(render::unit_cube());
   const int cube = static_cast<int>(s.meshes.size()) - 1;
   for_each_site_part(world, [&](const Eigen::Affine3d& pose, const Eigen::Vector3f& colour) {
     s.instances.push_back({cube, pose, colour});

@@ -10,6 +10,7 @@
 
 #include "io/png_image.h"
 #include "render/noise.h"
+#include "render/primitives.h"
 #include "render/particles_pass.h"
 #include "render/renderer.h"
 #include "render/terrain_mesh.h"
@@ -21,22 +22,6 @@ using namespace skidsim;
 const std::string kReference = std::string(SKIDSIM_SOURCE_DIR) + "/tests/data/render_reference.png";
 constexpr int kWidth = 320, kHeight = 240;
 
-render::Mesh cube() {
-  render::Mesh m;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int sign = -1; sign <= 1; sign += 2) {
-      Eigen::Vector3f n = Eigen::Vector3f::Zero();
-      n[axis] = static_cast<float>(sign);
-      const Eigen::Vector3f u = Eigen::Vector3f::Unit((axis + 1) % 3), w = Eigen::Vector3f::Unit((axis + 2) % 3);
-      const auto base = static_cast<std::uint32_t>(m.positions_m.size());
-      for (const auto& [a, b] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
-        m.positions_m.push_back(0.5f * (n + static_cast<float>(a) * u + static_cast<float>(b) * w));
-        m.normals.push_back(n);
-      }
-      m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-    }
-  return m;
-}
 
 // A 6 m x 6 m field of 10 cm cells holding a 1 m cone, and a box beside it.
 render::Scene fixed_scene() {
@@ -50,7 +35,7 @@ render::Scene fixed_scene() {
       f.height_m[static_cast<std::size_t>(j * 61 + i)] =
           static_cast<float>(std::max(0.0, 1.0 - std::hypot(0.1 * i - 3.0, 0.1 * j - 3.0) / 1.8));
   s.fields.push_back(f);
-  s.meshes.push_back(cube());
+  s.meshes.push_back(render::unit_cube());
   Eigen::Affine3d box = Eigen::Affine3d::Identity();
   box.translate(Eigen::Vector3d(4.8, 1.5, 0.5));
   box.scale(Eigen::Vector3d(0.8, 0.8, 1.0));
