@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "io/atomic_file.h"
+#include "io/png_reader.h"
 
 namespace skidsim::io {
 namespace {
@@ -29,27 +30,15 @@ std::string dir_of(const std::string& path) {
   return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
 }
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { if (f) std::fclose(f); }
-};
-
 void write_png16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& rows) {
   write_png_rows(path, width, height, 16, PNG_COLOR_TYPE_GRAY, reinterpret_cast<const std::uint8_t*>(rows.data()),
                  static_cast<std::size_t>(width) * sizeof(std::uint16_t));
 }
 
 std::vector<std::uint16_t> read_png16(const std::string& path, int& width, int& height) {
-  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw InputError(path + ": cannot open height map image");
-  png_byte sig[8];
-  if (std::fread(sig, 1, 8, file.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0)
-    throw InputError(path + ": not a PNG file");
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    throw std::runtime_error("libpng: cannot create reader for " + path);
-  }
+  PngReader reader(path, "height map image");
+  png_structp png = reader.png;
+  png_infop info = reader.info;
   // libpng reports errors by longjmp: the buffers live behind a pointer made
   // before setjmp, so nothing set up after it is skipped or left undefined.
   struct Buffers {
@@ -57,17 +46,11 @@ std::vector<std::uint16_t> read_png16(const std::string& path, int& width, int& 
     std::vector<png_bytep> rows;
   };
   const auto buffers = std::make_unique<Buffers>();
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    throw InputError(path + ": corrupt or truncated PNG");
-  }
-  png_init_io(png, file.get());
-  png_set_sig_bytes(png, 8);
+  if (setjmp(png_jmpbuf(png))) throw InputError(path + ": corrupt or truncated PNG");
   png_read_info(png, info);
   const int bit_depth = png_get_bit_depth(png, info);
   const int color = png_get_color_type(png, info);
   if (bit_depth != 16 || color != PNG_COLOR_TYPE_GRAY) {
-    png_destroy_read_struct(&png, &info, nullptr);
     std::ostringstream msg;
     msg << path << ": height maps must be 16-bit greyscale PNG (found bit depth " << bit_depth
         << ", colour type " << color << ")";
@@ -85,7 +68,6 @@ std::vector<std::uint16_t> read_png16(const std::string& path, int& width, int& 
         reinterpret_cast<png_bytep>(&buffers->pixels[static_cast<std::size_t>(r) * width]);
   png_read_image(png, buffers->rows.data());
   png_read_end(png, nullptr);
-  png_destroy_read_struct(&png, &info, nullptr);
   return std::move(buffers->pixels);
 }
 

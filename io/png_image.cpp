@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/png_reader.h"
 
 namespace skidsim::io {
 namespace {
@@ -58,28 +59,39 @@ void write_png_rgb8(const std::string& path, const RgbImage& image, int zlib_lev
   });
 }
 
-RgbImage read_png_rgb8(const std::string& path) {
-  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw InputError(path + ": cannot open the image");
+PngReader::PngReader(const std::string& path, const std::string& what) {
+  file = std::fopen(path.c_str(), "rb");
+  if (!file) throw InputError(path + ": cannot open " + what);
   png_byte signature[8];
-  if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0)
+  if (std::fread(signature, 1, 8, file) != 8 || png_sig_cmp(signature, 0, 8) != 0) {
+    std::fclose(file);
     throw InputError(path + ": not a PNG file");
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  }
+  png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
     png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(file);
     throw std::runtime_error("libpng: cannot create reader for " + path);
   }
+  png_init_io(png, file);
+  png_set_sig_bytes(png, 8);
+}
+
+PngReader::~PngReader() {
+  png_destroy_read_struct(&png, &info, nullptr);
+  std::fclose(file);
+}
+
+RgbImage read_png_rgb8(const std::string& path) {
+  PngReader reader(path, "the image");
+  png_structp png = reader.png;
+  png_infop info = reader.info;
   // libpng reports errors by longjmp: the buffers live behind a pointer made
   // before setjmp.
   const auto image = std::make_unique<RgbImage>();
   std::vector<png_bytep> rows;
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    throw InputError(path + ": corrupt or truncated PNG");
-  }
-  png_init_io(png, file.get());
-  png_set_sig_bytes(png, 8);
+  if (setjmp(png_jmpbuf(png))) throw InputError(path + ": corrupt or truncated PNG");
   png_read_info(png, info);
   // Whatever it holds, as 8-bit RGB.
   png_set_expand(png);
@@ -88,22 +100,17 @@ RgbImage read_png_rgb8(const std::string& path) {
   png_set_gray_to_rgb(png);
   png_read_update_info(png, info);
   // A frame or a sheet, not a poster: the header is not trusted further.
-  if (png_get_image_width(png, info) > 16384 || png_get_image_height(png, info) > 16384) {
-    png_destroy_read_struct(&png, &info, nullptr);
+  if (png_get_image_width(png, info) > 16384 || png_get_image_height(png, info) > 16384)
     throw InputError(path + ": over 16384 pixels on a side");
-  }
   image->width = static_cast<int>(png_get_image_width(png, info));
   image->height = static_cast<int>(png_get_image_height(png, info));
-  if (png_get_rowbytes(png, info) != static_cast<std::size_t>(image->width) * 3) {
-    png_destroy_read_struct(&png, &info, nullptr);
+  if (png_get_rowbytes(png, info) != static_cast<std::size_t>(image->width) * 3)
     throw InputError(path + ": cannot read it as 8-bit RGB");
-  }
   image->rgb.resize(static_cast<std::size_t>(image->width) * static_cast<std::size_t>(image->height) * 3);
   rows.resize(static_cast<std::size_t>(image->height));
   for (int r = 0; r < image->height; ++r) rows[static_cast<std::size_t>(r)] = &image->rgb[static_cast<std::size_t>(r) * image->width * 3];
   png_read_image(png, rows.data());
   png_read_end(png, nullptr);
-  png_destroy_read_struct(&png, &info, nullptr);
   return *image;
 }
 
