@@ -68,7 +68,9 @@ std::unique_ptr<engine::World> build_session_world(const io::Exercise& ex, const
   double ground_z = 0.0;
   if (!ex.soils.empty()) {
     const io::SoilSite& s = ex.soils.front();
-    grid = soil_grid(s, soils.at(s.soil).flow);
+    terrain::SoilFlowParameters flow = soils.at(s.soil).flow;
+    flow.model = s.model;
+    grid = soil_grid(s, flow);
     // The site as the trainee finds it: what the exercise describes, settled.
     // Loose soil cannot stand in a trench's or bank's vertical walls; letting
     // it slump before the start keeps that slumping out of the tasks'

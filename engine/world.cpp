@@ -15,6 +15,14 @@
 
 namespace skidsim::engine {
 namespace {
+
+// Soil in the bucket and the truck beds always slides by the automaton: it
+// is loosened, dumped soil, and the slippage model's cohesion belongs to
+// the ground as it lies (a site selects that model for its own grid only).
+terrain::SoilFlowParameters container_soil(terrain::SoilFlowParameters soil) {
+  soil.model = terrain::GroundModel::kAutomaton;
+  return soil;
+}
 btVector3 bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
 constexpr int kObstacleTag = 0x0b57;  // btCollisionObject user index of an obstacle
 }  // namespace
@@ -169,7 +177,7 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
     resistances_.push_back(std::make_unique<SoilResistance>(&loader_->multibody(), link_boxes_[k].link - 1));
     world_->addMultiBodyConstraint(resistances_.back().get());
   }
-  material_soil_ = grid_->soil();
+  material_soil_ = container_soil(grid_->soil());
   material_cell_m_ = grid_->cell_size_m();
   build_material(std::move(bucket));
 }
@@ -177,7 +185,7 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
 void World::enable_material(const terrain::SoilFlowParameters& soil, double cell_size_m) {
   if (exchange_) throw std::logic_error("World::enable_material: material handling is already on");
   std::unique_ptr<terrain::BodyAutomaton> bucket = make_bucket_automaton(soil, cell_size_m);
-  material_soil_ = soil;
+  material_soil_ = container_soil(soil);
   material_cell_m_ = cell_size_m;
   build_material(std::move(bucket));
 }
@@ -192,7 +200,7 @@ std::unique_ptr<terrain::BodyAutomaton> World::make_bucket_automaton(const terra
     spreading.eps = in.spreading_eps;
     spreading.block_height_cells = in.spreading_block_cells;
     terrain::validate(spreading);
-    return std::make_unique<terrain::BodyAutomaton>(bucket_container(in), soil, cell_size_m, kStepSeconds);
+    return std::make_unique<terrain::BodyAutomaton>(bucket_container(in), container_soil(soil), cell_size_m, kStepSeconds);
   } catch (const std::invalid_argument& e) {
     std::ostringstream msg;
     msg << d.parameters_path << ": <bucket> <interior>/<filling> cannot make the bucket's automaton at "

@@ -91,6 +91,12 @@ struct Reader {
     s.cell_m = a.number_in("cell_m", 0.01, 0.5);
     s.depth_m = a.number_in("depth_m", 0.0, 10.0);
     s.soil = a.text("type", true);
+    if (a.has("model")) {
+      const std::string model = a.text("model", true);
+      if (model == "slippage") s.model = terrain::GroundModel::kSlippage;
+      else if (model != "automaton")
+        a.fail("attribute 'model' = \"" + model + "\": expected \"automaton\" or \"slippage\"");
+    }
     a.reject_unknown();
     on_site(a, s.region, "the soil region");
     if (!table.count(s.soil)) a.fail("attribute 'type' = \"" + s.soil + "\": not a soil of " + table_path);

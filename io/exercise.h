@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "terrain/flow_law.h"
+
 namespace skidsim::io {
 
 // A rectangle on the site, "x0 y0 x1 y1" (m, x0 < x1, y0 < y1).
@@ -40,6 +42,9 @@ struct SoilSite {
   double cell_m = 0.05;
   double depth_m = 0.0;   // the flat layer over the hard base
   std::string soil;       // an id of the soil table
+  // How the site's loose soil slides: the automaton, or Li & Moshell's
+  // slippage model (terrain/slippage_law.h; for cohesive soils).
+  terrain::GroundModel model = terrain::GroundModel::kAutomaton;
   std::vector<SoilPile> piles;
   std::vector<SoilTrench> trenches;
   std::vector<SoilBank> banks;

@@ -54,6 +54,10 @@ SoilTable load_soil_table(const std::string& path) {
     rec.flow.rolling_speed_m_per_s = f.number("rolling_speed_m_per_s");
     rec.flow.rolling_layer_m = f.number("rolling_layer_m");
     rec.flow.min_flow_layer_m = f.number("min_flow_layer_m");
+    // Li & Moshell's slippage model (a site that selects it): the strength of
+    // the soil as it lies; the automaton ignores both.
+    rec.flow.slip_cohesion_Pa = 1000.0 * f.number_or("slip_cohesion_kPa", 0.0);
+    rec.flow.slip_friction_angle_deg = f.number_or("slip_friction_angle_deg", 0.0);
     f.reject_unknown();
     try {
       terrain::validate(rec.flow);

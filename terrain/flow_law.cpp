@@ -39,6 +39,10 @@ void validate(const SoilFlowParameters& soil) {
         soil.min_flow_layer_m <= soil.rolling_layer_m * tan_deg(soil.stop_angle_deg)))
     bad_field(soil, "min_flow_layer_m", soil.min_flow_layer_m,
               "in [0, rolling_layer_m * tan(stop_angle_deg)]");
+  if (!(soil.slip_cohesion_Pa >= 0.0 && soil.slip_cohesion_Pa <= 1.0e6))
+    bad_field(soil, "slip_cohesion_Pa", soil.slip_cohesion_Pa, "in [0, 1e6]");
+  if (!(soil.slip_friction_angle_deg >= 0.0 && soil.slip_friction_angle_deg < 89.0))
+    bad_field(soil, "slip_friction_angle_deg", soil.slip_friction_angle_deg, "in [0, 89)");
 }
 
 FlowLaw derive_flow_law(const SoilFlowParameters& soil, double cell_size_m,

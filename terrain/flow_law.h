@@ -3,9 +3,14 @@
 // bound of the explicit sweep. See docs/terrain_model.md for the derivation.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace skidsim::terrain {
+
+// How a soil site's loose material slides: the thesis's cellular automaton
+// (this file), or Li & Moshell's slice model (terrain/slippage_law.h).
+enum class GroundModel : std::uint8_t { kAutomaton, kSlippage };
 
 // Physical soil data that drives the avalanche rule (thesis 4.1.2, 4.4, 4.5).
 struct SoilFlowParameters {
@@ -27,6 +32,15 @@ struct SoilFlowParameters {
   // as the slope nears alpha_I, it is a transport (4.4.3) that stops when the
   // slope falls below alpha_I, so avalanches end in finite time.
   double min_flow_layer_m = 0.005;
+
+  GroundModel model = GroundModel::kAutomaton;
+  // Mohr-Coulomb strength for the slippage model (2.1): cohesion c and angle
+  // of internal friction phi of the soil as it lies; 0 deg takes the repose
+  // angle (a cohesionless sand fails at slope > phi). The automaton ignores
+  // them. rolling_speed_m_per_s caps the sliding wedge's speed there.
+  double slip_cohesion_Pa = 0.0;
+  double slip_friction_angle_deg = 0.0;
+  double slip_friction_deg() const { return slip_friction_angle_deg > 0.0 ? slip_friction_angle_deg : repose_angle_deg; }
 };
 
 // Throws std::invalid_argument naming the offending field when a value is out

@@ -67,8 +67,17 @@ GranularGrid::GranularGrid(const GridSpec& spec, const SoilFlowParameters& soil,
     throw std::invalid_argument("grid has more than 2^31 cells");
   if (!(spec.flow_bound_fraction > 0.0 && spec.flow_bound_fraction <= 1.0))
     throw std::invalid_argument("grid flow_bound_fraction must be in (0, 1]");
-  law_ = derive_flow_law(soil, spec.cell_size_m, step_dt_s, max_substeps, spec.flow_bound_fraction);
+  const bool slippage = soil.model == GroundModel::kSlippage;
+  law_ = derive_flow_law(soil, spec.cell_size_m, step_dt_s, slippage ? std::numeric_limits<int>::max() : max_substeps,
+                         spec.flow_bound_fraction);
   const std::size_t n = static_cast<std::size_t>(spec.nx) * spec.ny;
+  if (slippage) {
+    slip_ = derive_slippage_law(soil, spec.cell_size_m, step_dt_s, max_substeps, spec.flow_bound_fraction,
+                                spec.slide_courant_limit, spec.slide_beyond_bound_for_study);
+    law_.substeps = slip_.substeps;
+    law_.sweep_dt_s = slip_.sweep_dt_s;
+    slide_speed_.assign(n, 0.0f);
+  }
   quanta_.assign(n, 0);
   base_m_.assign(n, 0.0f);
   surface_m_.assign(n, 0.0);
@@ -359,7 +368,7 @@ void GranularGrid::sweep() {
     pending_all_ = false;
     for (std::uint32_t c = 0; c < quanta_.size(); ++c) wake(static_cast<int>(c));
   }
-  const bool dense = !tilted_ && (mode_ == SweepMode::kDense ||
+  const bool dense = !tilted_ && slide_speed_.empty() && (mode_ == SweepMode::kDense ||
                                   (mode_ == SweepMode::kAuto && active_cell_count() * kDenseFraction > quanta_.size()));
   ++sweep_count_;
   if (dense) {
@@ -569,6 +578,10 @@ __attribute__((target_clones("avx2", "default"))) void GranularGrid::dense_row_f
 // geometry is gathered into flat arrays and the face fluxes computed in one
 // loop that vectorises, with the arithmetic of compute_flux.
 __attribute__((target_clones("avx2", "default"))) void GranularGrid::sparse_fluxes() {
+  if (!slide_speed_.empty()) {
+    slippage_fluxes();
+    return;
+  }
   const double inv_d = 1.0 / spec_.cell_size_m;
   const double stop2 = law_.tan_stop * law_.tan_stop, repose2 = law_.tan_repose * law_.tan_repose;
   const FlowLaw law = law_;
@@ -592,6 +605,40 @@ __attribute__((target_clones("avx2", "default"))) void GranularGrid::sparse_flux
       flux_[start + k].cell = c;
       flux_[start + k].out = clamp_to_available(q + 4 * k, quanta_[c]);
     }
+  }
+}
+
+void GranularGrid::slippage_fluxes() {
+  const double d = spec_.cell_size_m, inv_d = 1.0 / d, dt = slip_.sweep_dt_s;
+  for (std::size_t k = 0; k < current_.size(); ++k) {
+    const std::uint32_t c = current_[k];
+    const FaceGeometry g = face_geometry(c);
+    SliceFailure failure[4];
+    double tan_beta[4] = {1.0, 1.0, 1.0, 1.0};
+    double accel = 0.0;
+    for (int f = 0; f < 4; ++f) {
+      if (!(g.drop[f] > 0.0)) continue;
+      tan_beta[f] = std::hypot(g.drop[f], g.tangential[f]) * inv_d;
+      failure[f] = slice_failure(slip_, tan_beta[f] * d, d);
+      accel = std::max(accel, failure[f].accel_m_s2);
+    }
+    // (5.1): the wedge of the steepest failing slice speeds up; a stable
+    // cell's wedge is held by friction and stops.
+    float& speed = slide_speed_[c];
+    const double v = accel > 0.0 && quanta_[c] > 0 ? std::min(speed + accel * dt, slip_.max_speed_m_s) : 0.0;
+    // (4.2): the wedge (area run * excess / 2) moving at v sends
+    // area * v * dt / run per unit width through the face; over a face d
+    // wide into a cell d^2 that is excess * v * dt / (2 d) of height, the
+    // face's share of the gradient-direction flux (normal / |slope|).
+    double q[4];
+    for (int f = 0; f < 4; ++f) {
+      const double moved_m = 0.5 * failure[f].excess_m * v * dt * inv_d * (g.drop[f] * inv_d / tan_beta[f]);
+      q[f] = failure[f].fails ? std::min(moved_m * (1.0 / kHeightQuantumM), 2.0e9) + 0.5 : 0.0;
+    }
+    flux_[k].cell = c;
+    flux_[k].out = clamp_to_available(q, quanta_[c]);
+    const bool moved = (flux_[k].out[0] | flux_[k].out[1] | flux_[k].out[2] | flux_[k].out[3]) != 0;
+    speed = moved ? static_cast<float>(v) : 0.0f;  // nothing moved: nothing slides
   }
 }
 

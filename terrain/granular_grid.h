@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "terrain/flow_law.h"
+#include "terrain/slippage_law.h"
 
 namespace skidsim::terrain {
 
@@ -47,6 +48,11 @@ struct GridSpec {
   // slopes steepen the local height differences by up to 1/cos^2 of the
   // tilt, and the margin keeps the sweep free of checkerboards to ~45 deg.
   double flow_bound_fraction = 1.0;
+  // Slippage model only (SoilFlowParameters::model): the Courant number
+  // v dt / d its sub-steps keep. Above kMaxSlideCourant only with
+  // slide_beyond_bound_for_study (the report shows what happens there).
+  double slide_courant_limit = kMaxSlideCourant;
+  bool slide_beyond_bound_for_study = false;
 };
 
 // Every amount of material the automaton has seen, in quanta. The invariant
@@ -88,6 +94,11 @@ class GranularGrid {
   const GridSpec& spec() const { return spec_; }
   const SoilFlowParameters& soil() const { return soil_; }
   const FlowLaw& flow_law() const { return law_; }
+  GroundModel ground_model() const { return soil_.model; }
+  // The slippage model as resolved for this grid (only meaningful when
+  // ground_model() is kSlippage), and the speed of a cell's sliding wedge.
+  const SlippageLaw& slippage_law() const { return slip_; }
+  double slide_speed_m_s(int i, int j) const { return slide_speed_.empty() ? 0.0 : slide_speed_[index(i, j)]; }
   int nx() const { return spec_.nx; }
   int ny() const { return spec_.ny; }
   double cell_size_m() const { return spec_.cell_size_m; }
@@ -302,11 +313,16 @@ class GranularGrid {
   void gather_row(int j, const std::array<std::int32_t, 4>* below, const std::array<std::int32_t, 4>* here,
                   const std::array<std::int32_t, 4>* above);
   void sparse_fluxes();
+  // Phase 1 for the slippage model (terrain/slippage_law.h): per active cell,
+  // the wedge's speed (5.1) and the face fluxes (4.2).
+  void slippage_fluxes();
   static constexpr std::size_t kFluxBlock = 64;
 
   GridSpec spec_;
   SoilFlowParameters soil_;
   FlowLaw law_;
+  SlippageLaw slip_;
+  std::vector<float> slide_speed_;  // slippage model: per cell, m/s
   std::vector<std::int64_t> quanta_;
   std::vector<float> base_m_;
   std::vector<double> surface_m_;  // base + material, kept in step with both

@@ -82,5 +82,54 @@ TEST(SessionWorld, CourseOnFirmGroundBuildsNoSoilAndItsTruckAndBoxes) {
   fs::remove_all(dir);
 }
 
+// A soil site selects its ground model: in stiff sandy loam (c = 9.65 kPa)
+// the slippage model keeps a 0.6 m trench's walls standing (Culmann's
+// critical height is 4.2 m), while the automaton, which has no cohesion,
+// slumps them to its repose angle.
+TEST(SessionWorld, SoilSiteSelectsItsGroundModel) {
+  const fs::path dir = fs::temp_directory_path() / ("skidsim_model_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto trench_fill_m3 = [&](const std::string& model_attribute) {
+    const fs::path file = dir / "trench.xml";
+    std::ofstream(file) << R"(<exercise name="trench" version="1" time_limit_s="60">
+  <site size_m="12 10">
+    <soil id="ground" region="4 2 10 8" cell_m="0.05" depth_m="0.8" type="sandy_loam_23" )"
+                        << model_attribute << R"(>
+      <trench from="5 5" to="9 5" width_m="1.0" depth_m="0.6"/>
+    </soil>
+  </site>
+  <machine position="1.5 5" yaw_deg="0"/>
+  <operator source="lcm"/>
+  <task id="park" type="drive_course"><gate region="2 4 3 6"/></task>
+</exercise>
+)";
+    const io::Exercise ex = io::load_exercise(file.string());
+    auto w = build_session_world(ex, io::load_loader(ex.machine.loader), soils());
+    const terrain::GranularGrid& g = *w->terrain();
+    const auto in_trench = [&]() {
+      double m3 = 0.0;
+      for (int j = 0; j < g.ny(); ++j)
+        for (int i = 0; i < g.nx(); ++i) {
+          const Eigen::Vector2d p = g.spec().origin_m + g.cell_size_m() * Eigen::Vector2d(i, j);
+          if (p.x() > 5.2 && p.x() < 8.8 && std::abs(p.y() - 5.0) < 0.45) m3 += g.material_m(i, j) - 0.2;
+        }
+      return m3 * g.cell_size_m() * g.cell_size_m();
+    };
+    // (The world is built settled: the automaton's walls have slumped.)
+    vehicle::LoaderControls c;
+    c.parking_brake = true;
+    for (int k = 0; k < 1000; ++k) w->step(c);
+    EXPECT_TRUE(g.ledger().balanced());
+    return std::make_pair(g.ground_model(), in_trench());
+  };
+  const auto [slip_model, slip_fill] = trench_fill_m3("model=\"slippage\"");
+  const auto [ca_model, ca_fill] = trench_fill_m3("");
+  EXPECT_EQ(slip_model, terrain::GroundModel::kSlippage);
+  EXPECT_EQ(ca_model, terrain::GroundModel::kAutomaton);
+  EXPECT_LT(std::abs(slip_fill), 1e-6) << "the walls stand";
+  EXPECT_GT(ca_fill, 0.1) << "the walls slump into the trench";
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace skidsim::apps
