@@ -102,6 +102,44 @@ TEST(Stability, TallThinColumnCollapses) {
 }
 
 // Standing braked on a 20 degree slope: no creep, no jitter.
+// The same column in the second ground model (Li & Moshell's slippage,
+// dry sand: c = 0, phi = the repose angle), down to 1 cm cells. Its wedge
+// speeds are capped and sub-stepped to the Courant bound, so nothing may
+// overshoot: the surface never rises above the column's top.
+TEST(Stability, TallThinColumnCollapsesInTheSlippageModel) {
+  for (const double cells_per_m : {20.0, 50.0, 100.0}) {
+    terrain::SoilFlowParameters soil = sand().flow;
+    soil.model = terrain::GroundModel::kSlippage;
+    auto grid = engine::flat_soil_grid(soil, cells_per_m, {0.0, 0.0}, 3.0, 3.0, 0.0);
+    const int c = grid->nx() / 2;
+    grid->set_material_m(c, c, 2.0);
+    const std::int64_t total = grid->total_quanta();
+    double highest = 2.0;
+    int steps = 0;
+    while (!grid->at_rest() && steps < 60000) {
+      grid->step();
+      ++steps;
+      if (steps % 50 == 0)
+        for (int j = c - 3; j <= c + 3; ++j)
+          for (int i = c - 3; i <= c + 3; ++i) highest = std::max(highest, grid->surface_m(i, j));
+    }
+    EXPECT_TRUE(grid->at_rest()) << cells_per_m;
+    EXPECT_EQ(grid->total_quanta() + grid->ledger().off_site_total(), total);
+    EXPECT_TRUE(grid->ledger().balanced());
+    EXPECT_LE(highest, 2.0);
+    double steepest = 0.0;
+    for (int j = 0; j < grid->ny(); ++j)
+      for (int i = 0; i < grid->nx(); ++i) {
+        EXPECT_TRUE(std::isfinite(grid->surface_m(i, j)));
+        steepest = std::max(steepest, grid->downhill_slope_tan(i, j));
+      }
+    const double steepest_deg = std::atan(steepest) * 180.0 / kPi;
+    std::printf("[ measured ] 2 m column, slippage model, %.0f cells/m: at rest after %.2f s, steepest %.2f deg (phi %.0f)\n",
+                cells_per_m, steps * engine::kStepSeconds, steepest_deg, soil.slip_friction_deg());
+    EXPECT_LE(steepest_deg, soil.slip_friction_deg() + 0.1);
+  }
+}
+
 TEST(Stability, BrakedOnATwentyDegreeSlope) {
   auto w = loader_on_ground(20.0 * kPi / 180.0);
   const Eigen::Vector3d start = w->loader().link_pose(0).translation();
