@@ -162,6 +162,8 @@ int write_perf_report(const PerfReportJob& job) {
   const std::vector<std::pair<const char*, Section>> families = {
       {"repose cone", perf::repose_cone_section},
       {"blade push", perf::blade_push_section},
+      {"BCRE diffusion", perf::bcre_section},
+      {"pressure under a pile", perf::pile_load_section},
   };
   std::vector<perf::ReportSection> sections;
   std::string timings;

@@ -100,5 +100,7 @@ double seconds_since(std::chrono::steady_clock::time_point start);
 // The sections of the page, one function per family (apps/perf_*.cpp).
 ReportSection repose_cone_section(const ReportContext& ctx);      // perf_report.cpp
 ReportSection blade_push_section(const ReportContext& ctx);       // perf_report.cpp
+ReportSection bcre_section(const ReportContext& ctx);             // perf_ladders_flow.cpp
+ReportSection pile_load_section(const ReportContext& ctx);        // perf_ladders_flow.cpp
 
 }  // namespace skidsim::apps::perf
