@@ -164,6 +164,8 @@ int write_perf_report(const PerfReportJob& job) {
       {"blade push", perf::blade_push_section},
       {"BCRE diffusion", perf::bcre_section},
       {"pressure under a pile", perf::pile_load_section},
+      {"plate sinkage", perf::plate_sinkage_section},
+      {"wheel sinkage", perf::wheel_sinkage_section},
   };
   std::vector<perf::ReportSection> sections;
   std::string timings;

@@ -102,5 +102,7 @@ ReportSection repose_cone_section(const ReportContext& ctx);      // perf_report
 ReportSection blade_push_section(const ReportContext& ctx);       // perf_report.cpp
 ReportSection bcre_section(const ReportContext& ctx);             // perf_ladders_flow.cpp
 ReportSection pile_load_section(const ReportContext& ctx);        // perf_ladders_flow.cpp
+ReportSection plate_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
+ReportSection wheel_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
 
 }  // namespace skidsim::apps::perf
