@@ -166,6 +166,7 @@ int write_perf_report(const PerfReportJob& job) {
       {"pressure under a pile", perf::pile_load_section},
       {"plate sinkage", perf::plate_sinkage_section},
       {"wheel sinkage", perf::wheel_sinkage_section},
+      {"thesis tables 7.1, 7.4, 7.5", perf::thesis_tables_section},
   };
   std::vector<perf::ReportSection> sections;
   std::string timings;

@@ -97,6 +97,17 @@ class LadderBudget {
 // Wall-clock seconds since `start`.
 double seconds_since(std::chrono::steady_clock::time_point start);
 
+// Runs the benchmarks compiled into this binary (bench/, what `skidsim
+// bench` runs) whose names match `filter`, those without a time or iteration
+// count of their own for at least `min_time_s`, and returns them by name
+// (e.g. "BM_CubeContact/10"). Throws if one reports an error.
+struct BenchmarkRun {
+  double real_s_per_iteration = 0.0;  // wall clock
+  std::map<std::string, double> counters;
+  std::string label;
+};
+std::map<std::string, BenchmarkRun> run_benchmarks(const std::string& filter, double min_time_s);
+
 // The sections of the page, one function per family (apps/perf_*.cpp).
 ReportSection repose_cone_section(const ReportContext& ctx);      // perf_report.cpp
 ReportSection blade_push_section(const ReportContext& ctx);       // perf_report.cpp
@@ -104,5 +115,6 @@ ReportSection bcre_section(const ReportContext& ctx);             // perf_ladder
 ReportSection pile_load_section(const ReportContext& ctx);        // perf_ladders_flow.cpp
 ReportSection plate_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
 ReportSection wheel_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
+ReportSection thesis_tables_section(const ReportContext& ctx);    // perf_thesis_tables.cpp (tables 7.1, 7.4, 7.5)
 
 }  // namespace skidsim::apps::perf
