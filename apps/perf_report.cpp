@@ -167,6 +167,7 @@ int write_perf_report(const PerfReportJob& job) {
       {"plate sinkage", perf::plate_sinkage_section},
       {"wheel sinkage", perf::wheel_sinkage_section},
       {"thesis tables 7.1, 7.4, 7.5", perf::thesis_tables_section},
+      {"whole sessions, table 9.3", perf::sessions_section},
   };
   std::vector<perf::ReportSection> sections;
   std::string timings;
