@@ -146,11 +146,19 @@ ReportSection bcre_section(const ReportContext& ctx) {
                "more).\n\n" +
                table(by_cell, "largest error (% of the bump)") + "\n![BCRE error against cost, by cell size](" + svg_cells + ")\n\n" +
                "Reading it: " + cc.reading;
-  if (cc.trend == Trend::kFalls || cc.trend == Trend::kFallsOverall)
+  if (cc.trend == Trend::kFalls || cc.trend == Trend::kFallsOverall) {
     s.markdown += " The three-point Laplacian is second order in d once the sweep sub-steps at its bound (z+/d per sweep "
-                  "fixed, so dt_sweep ~ d^2); the coarse rungs, where sigma0 spans " +
-                  fmt("%.1f", kBumpSigma0 / cells.front()) +
-                  " cells, are not yet in that regime, so the order between the last two rungs is the one to read.";
+                  "fixed, so dt_sweep ~ d^2): compare the orders rung to rung with 2.";
+    // The coarsest rung whose order falls well short of 2: how many cells
+    // sigma0 spans there.
+    for (std::size_t k = 0; k < cc.orders.size(); ++k)
+      if (cc.orders[k] < 1.5) {
+        s.markdown += " Short of it from " + by_cell[k].label + " to " + by_cell[k + 1].label + ", where sigma0 spans " +
+                      fmt("%.1f", kBumpSigma0 / cells[k]) + " to " + fmt("%.1f", kBumpSigma0 / cells[k + 1]) +
+                      " cells: the bump is not yet resolved there.";
+        break;
+      }
+  }
   else
     s.markdown += " The bump is " + fmt("%.1f", kBumpSigma0 / cells.back()) +
                   " cells wide at the finest rung, so it is resolved: an error that does not fall with the cells is not the "
