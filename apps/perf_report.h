@@ -1,13 +1,16 @@
 // `skidsim bench report`: speed against error (VALIDATION.md), measured in
 // this run and written as docs/performance.md with an SVG plot per case:
-// for each accuracy case with a reference, a ladder of cell sizes, the
-// error against the reference and the cost (wall seconds per simulated
-// second, one core). So a user can pick the cheapest cell size that meets
-// the error they need.
+// for each accuracy case with a reference, a ladder of cell sizes (and
+// sub-steps where they matter), the error against the reference and the
+// cost (wall seconds per simulated second, one core). So a user can pick the
+// cheapest cell size that meets the error they need.
 //
-// Cases so far: the repose cone (a point pour; flank slope against the
-// stop angle alpha_I, and roundness, diagonals against axes) and the blade
-// push (the resistance after 2 m against the finest rung, 50 cells/m).
+// Sections (apps/perf_report_parts.h; one function each): the repose cone
+// and the blade push (this file's .cpp), BCRE diffusion and the pressure
+// under a pile (perf_ladders_flow.cpp), plate and wheel sinkage
+// (perf_ladders_contact.cpp), the thesis's speed tables 7.1, 7.4 and 7.5 from
+// the benchmarks (perf_thesis_tables.cpp), whole sessions' real-time
+// factors and table 9.3 (perf_sessions.cpp).
 #pragma once
 
 #include <string>

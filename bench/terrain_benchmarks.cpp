@@ -56,7 +56,8 @@ void BM_AllActiveSweep(benchmark::State& state) {
   state.counters["state_B_per_cell"] = static_cast<double>(GranularGrid::kStateBytesPerCell);
   state.counters["scratch_B_per_cell"] = static_cast<double>(grid->scratch_bytes()) / (static_cast<double>(n) * n);
 }
-BENCHMARK(BM_AllActiveSweep)->Arg(30)->Arg(64)->Arg(256)->Arg(1024)->Arg(2048)->Unit(benchmark::kMicrosecond);
+// 5..30: the thesis's N (table 7.1; `skidsim bench report` puts them side by side).
+BENCHMARK(BM_AllActiveSweep)->DenseRange(5, 30, 5)->Arg(64)->Arg(256)->Arg(1024)->Arg(2048)->Unit(benchmark::kMicrosecond);
 
 // A large terrain with a layer at rest: a step must cost (almost) nothing.
 void BM_TerrainAtRest(benchmark::State& state) {

@@ -1,11 +1,15 @@
 // skidsim bench report: the speed-against-error page is written from one
-// command, its numbers from that run: tables with a row per rung, a plot
-// per case.
+// command, its numbers from that run: every section there, tables with a row
+// per rung and finite numbers, a plot per ladder with a point per row.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "tests/app_support.h"
 
@@ -19,29 +23,136 @@ std::size_t count(const std::string& s, const std::string& what) {
   return n;
 }
 
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The text from the line starting with `heading` to the next heading of the
+// same level (or the end).
+std::string section(const std::string& md, const std::string& heading) {
+  const std::size_t line = md.find("\n" + heading);
+  if (line == std::string::npos) return "";
+  const std::size_t at = line + 1;
+  const std::string level = heading.substr(0, heading.find(' ') + 1);
+  const std::size_t end = md.find("\n" + level, at + heading.size());
+  return md.substr(at, end == std::string::npos ? std::string::npos : end - at);
+}
+
+// The data rows of the Markdown tables in `text`, each split into its cells.
+std::vector<std::vector<std::string>> table_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(text);
+  std::string line;
+  bool header_next = true;  // the first row of each table is its header
+  while (std::getline(in, line)) {
+    if (line.rfind("|", 0) != 0) {
+      header_next = true;
+      continue;
+    }
+    if (header_next || line.rfind("|---", 0) == 0) {
+      header_next = false;
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::stringstream cut(line.substr(1));
+    for (std::string cell; std::getline(cut, cell, '|');) {
+      const std::size_t from = cell.find_first_not_of(' '), to = cell.find_last_not_of(' ');
+      cells.push_back(from == std::string::npos ? "" : cell.substr(from, to - from + 1));
+    }
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+bool finite_number(const std::string& cell) {
+  char* end = nullptr;
+  const double v = std::strtod(cell.c_str(), &end);
+  return end != cell.c_str() && std::isfinite(v);
+}
+
 TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
   const fs::path dir = fs::temp_directory_path() / "skidsim_perf_report";
   fs::remove_all(dir);
   const auto r = skidsim::testing::run_skidsim("bench report --quick --out " + (dir / "perf.md").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::ifstream in(dir / "perf.md");
-  std::stringstream page;
-  page << in.rdbuf();
-  const std::string md = page.str();
+  const std::string md = read(dir / "perf.md");
   EXPECT_NE(md.find("# Speed against error"), std::string::npos);
-  EXPECT_EQ(count(md, "| 20 cm |"), 2u) << "flank and roundness tables";
-  EXPECT_EQ(count(md, "| 10 cm |"), 2u);
-  EXPECT_EQ(count(md, "| 5/m |"), 1u);
-  EXPECT_EQ(count(md, "| 10/m |"), 1u);
-  for (const char* svg : {"perf_repose_slope.svg", "perf_repose_roundness.svg", "perf_push.svg"}) {
-    EXPECT_NE(md.find(svg), std::string::npos) << svg;
-    std::ifstream plot(dir / svg);
-    std::stringstream text;
-    text << plot.rdbuf();
-    EXPECT_EQ(count(text.str(), "<circle"), 2u) << svg << ": a point per rung";
+  EXPECT_EQ(md.find("Not in this page yet"), std::string::npos);
+
+  // Every ladder: a table (or two) with a row per rung (two in a quick run),
+  // the error and the cost finite numbers, a reading of the trend with the
+  // measured order, and a plot with a point per row.
+  struct Ladder {
+    const char* heading;
+    std::size_t tables;
+    std::vector<const char*> svgs;
+  };
+  const std::vector<Ladder> ladders = {
+      {"## Repose cone", 2, {"perf_repose_slope.svg", "perf_repose_roundness.svg"}},
+      {"## Blade push", 1, {"perf_push.svg"}},
+      {"## BCRE diffusion", 2, {"perf_bcre_cells.svg", "perf_bcre_substeps.svg"}},
+      {"## Plate sinkage", 1, {"perf_plate_sinkage.svg"}},
+      {"## Wheel sinkage", 2, {"perf_wheel_standing.svg", "perf_wheel_towed.svg"}},
+      {"## Pressure under a pile", 1, {"perf_pile_load.svg"}},
+  };
+  for (const Ladder& l : ladders) {
+    const std::string s = section(md, l.heading);
+    ASSERT_FALSE(s.empty()) << l.heading;
+    const auto rows = table_rows(s);
+    EXPECT_EQ(rows.size(), 2 * l.tables) << l.heading << ": two rungs per table";
+    for (const auto& row : rows) {
+      ASSERT_GE(row.size(), 3u) << l.heading;
+      EXPECT_TRUE(finite_number(row[1])) << l.heading << ": error '" << row[1] << "'";
+      EXPECT_TRUE(finite_number(row[2])) << l.heading << ": cost '" << row[2] << "'";
+      EXPECT_GT(std::strtod(row[2].c_str(), nullptr), 0.0) << l.heading << ": a cost was measured";
+    }
+    EXPECT_NE(s.find("Reading it:"), std::string::npos) << l.heading;
+    EXPECT_NE(s.find("order"), std::string::npos) << l.heading << ": the observed order, from the numbers";
+    for (const char* svg : l.svgs) {
+      EXPECT_NE(s.find(svg), std::string::npos) << svg;
+      EXPECT_EQ(count(read(dir / svg), "<circle"), 2u) << svg << ": a point per rung";
+    }
   }
-  // The coarse cone is far less round than the finer one: the numbers are measured.
+  // The numbers are measured: the coarse cone's flank is off alpha_I by what
+  // the run found, the plate sinks to Bekker's depth within 2 %.
   EXPECT_NE(md.find("flank 30."), std::string::npos);
+  for (const auto& row : table_rows(section(md, "## Plate sinkage"))) EXPECT_LT(std::strtod(row[1].c_str(), nullptr), 2.0);
+
+  // The thesis's tables beside today's benchmarks: rows with both figures.
+  const std::string thesis = section(md, "## The thesis's speed tables, today");
+  for (const char* table : {"### Table 7.1", "### Table 7.4"}) {
+    const auto rows = table_rows(section(thesis, table));
+    EXPECT_EQ(rows.size(), 2u) << table;
+    for (const auto& row : rows) {
+      EXPECT_TRUE(finite_number(row[1])) << table << ": thesis";
+      EXPECT_TRUE(finite_number(row[2])) << table << ": today '" << row[2] << "'";
+      EXPECT_GT(std::strtod(row[2].c_str(), nullptr), 0.0) << table;
+    }
+  }
+  const auto push_rows = table_rows(section(thesis, "### Table 7.5"));
+  EXPECT_EQ(push_rows.size(), 2u);
+  for (const auto& row : push_rows)
+    for (std::size_t k = 1; k < row.size(); ++k) EXPECT_EQ(row[k].find("not run"), std::string::npos) << row[k];
+
+  // Whole sessions: a real-time factor per cell size, and table 9.3 with
+  // today's figure where the quick run has one.
+  const std::string sessions = section(md, "## Whole sessions");
+  const auto session_rows = table_rows(sessions.substr(0, sessions.find("### Table 9.3")));
+  ASSERT_EQ(session_rows.size(), 2u);
+  EXPECT_EQ(session_rows[0][0], "20 cm");
+  EXPECT_EQ(session_rows[1][0], "10 cm");
+  for (const auto& row : session_rows) {
+    EXPECT_TRUE(finite_number(row[1])) << row[1];
+    EXPECT_GT(std::strtod(row[1].c_str(), nullptr), 0.0);
+  }
+  const auto table93 = table_rows(section(sessions, "### Table 9.3"));
+  EXPECT_EQ(table93.size(), 6u) << "the thesis's six densities";
+  int measured = 0;
+  for (const auto& row : table93) measured += finite_number(row[3]) ? 1 : 0;
+  EXPECT_EQ(measured, 2) << "5 and 10 cells/m, from the sessions above";
 }
 
 }  // namespace
