@@ -117,5 +117,6 @@ ReportSection plate_sinkage_section(const ReportContext& ctx);    // perf_ladder
 ReportSection wheel_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
 ReportSection thesis_tables_section(const ReportContext& ctx);    // perf_thesis_tables.cpp (tables 7.1, 7.4, 7.5)
 ReportSection sessions_section(const ReportContext& ctx);         // perf_sessions.cpp (whole sessions; table 9.3)
+ReportSection ground_models_section(const ReportContext& ctx);    // perf_ground_models.cpp (automaton vs slippage)
 
 }  // namespace skidsim::apps::perf

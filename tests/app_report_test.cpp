@@ -153,6 +153,31 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
   int measured = 0;
   for (const auto& row : table93) measured += finite_number(row[3]) ? 1 : 0;
   EXPECT_EQ(measured, 2) << "5 and 10 cells/m, from the sessions above";
+
+  // Both ground models on the same cases, from the run: the column in each
+  // model at both rungs, the cohesive cut (the slippage model keeps the low
+  // cut: nothing slides past its foot), the critical height's ladder, and
+  // the bound study finding the first unstable Courant number above 1/2.
+  const std::string models = section(md, "## Two ground models");
+  ASSERT_FALSE(models.empty());
+  const auto column = table_rows(section(models, "### A dry-sand column"));
+  ASSERT_EQ(column.size(), 4u);
+  for (const auto& row : column) {
+    ASSERT_EQ(row.size(), 9u);
+    const double flank = std::strtod(row[5].c_str(), nullptr);
+    EXPECT_NEAR(flank, row[0] == "slippage" ? 33.0 : 30.0, 1.0) << row[0] << " " << row[1];
+    EXPECT_TRUE(finite_number(row[8]));
+  }
+  const auto cut = table_rows(section(models, "### A vertical cut"));
+  ASSERT_EQ(cut.size(), 8u) << "four cuts, then the critical height at four cell sizes";
+  EXPECT_EQ(cut[2][0], "slippage");
+  EXPECT_EQ(std::strtod(cut[2][3].c_str(), nullptr), 0.0) << "the low cut stands";
+  EXPECT_GT(std::strtod(cut[0][3].c_str(), nullptr), 0.0) << "the automaton slumps it";
+  EXPECT_GT(std::strtod(cut[4][1].c_str(), nullptr), std::strtod(cut[7][1].c_str(), nullptr))
+      << "the critical height's error falls as the cells shrink";
+  EXPECT_EQ(table_rows(section(models, "### The slippage model's stability bound")).size(), 5u);
+  EXPECT_NE(models.find("above the enforced bound"), std::string::npos);
+  EXPECT_EQ(count(read(dir / "perf_ground_models_column.svg"), "<circle"), 4u);
 }
 
 }  // namespace
