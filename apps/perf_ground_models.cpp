@@ -241,7 +241,7 @@ ReportSection ground_models_section(const ReportContext& ctx) {
      << " s. The automaton's flux has a floor (the h_stop transport, 4.4.3), so its avalanches end in finite time; the "
         "slippage wedge's flux is proportional to the excess height over the failure plane, so near the end the "
         "flank relaxes like a diffusion with D ~ v d / 2 and creeps in ever smaller amounts (the apex is settled to "
-        "the eye long before the last quantum stops, the column above), and halving the cells roughly doubles the "
+        "the eye, within 1 mm, long before the last quantum stops), and halving the cells roughly doubles the "
         "tail: from "
      << fmt("%.2f", settle_slip.front()) << " s at " << fmt("%g", cells.front() * 100.0) << " cm to "
      << fmt("%.2f", settle_slip.back()) << " s at " << fmt("%g", cells.back() * 100.0) << " cm here.\n\n";
@@ -261,7 +261,7 @@ ReportSection ground_models_section(const ReportContext& ctx) {
       const CutResult r = vertical_cut(with_model(loam, m), 0.05, f * culmann);
       md << "| " << model_name(m) << " | " << fmt("%.3f", f * culmann) << " | " << (f < 1.0 ? "stands" : "fails") << " | "
          << fmt("%.4f", r.slid_m3_per_m) << " | " << fmt("%.1f", r.steepest_deg) << " | "
-         << (r.run.at_rest ? fmt("%.2f", r.run.settle_s) : "> 60") << " | " << fmt("%.3g", r.run.cost) << " |\n";
+         << (r.run.at_rest ? fmt("%.3g", r.run.settle_s) : "> 60") << " | " << fmt("%.3g", r.run.cost) << " |\n";
     }
   md << "\nThe automaton has no cohesion: it slumps both cuts to its repose angle ("
      << fmt("%g", loam.repose_angle_deg)
