@@ -247,7 +247,7 @@ ReportSection ground_models_section(const ReportContext& ctx) {
      << fmt("%.2f", settle_slip.back()) << " s at " << fmt("%g", cells.back() * 100.0) << " cm here.\n\n";
 
   // 2. Cohesive soil: a vertical cut against Culmann.
-  const double unit_weight = loam.bulk_density_kg_m3 * terrain::kGravityM_s2;
+  const double unit_weight = loam.bulk_density_kg_m3 * terrain::kGravity_m_s2;
   const double culmann = terrain::culmann_critical_height_m(loam.slip_cohesion_Pa, loam.slip_friction_deg(), unit_weight);
   md << "### A vertical cut in cohesive soil\n\n"
      << "Sandy loam at 15 % moisture (c = " << fmt("%g", loam.slip_cohesion_Pa / 1000.0) << " kPa, phi = "

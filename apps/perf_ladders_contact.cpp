@@ -15,6 +15,7 @@
 #include "terrain/granular_grid.h"
 #include "terrain/soil_contact.h"
 #include "terrain/soil_mechanics.h"
+#include "terrain/plate_loading.h"
 #include "terrain/translating_body.h"
 
 namespace skidsim::apps::perf {
@@ -49,49 +50,17 @@ std::vector<double> cell_sizes_m(const std::vector<double>& cells_per_m) {
 
 // --- Plate sinkage (Bekker 3.19; thesis 7.3.1, table 7.6) ---------------------
 
-// Soil with Bekker exponent n whose k_phi puts a 1000 kg plate 0.15 m deep
-// (k_c = 0), so every n gives sinkages of centimetres, as in table 7.6.
-SoilMechanics soil_with_exponent(double n) {
-  SoilMechanics s;
-  s.n = n;
-  s.k_c_kN_per_m_n1 = 0.0;
-  s.k_phi_kN_per_m_n2 = 1000.0 * kGravity_m_s2 / std::pow(0.15, n) / 1000.0;
-  return s;
-}
-
-// Bekker (3.19) for a 1 m x 1 m plate: z = (m g / A / (k_c / b + k_phi))^(1/n).
-double bekker_plate_depth_m(const SoilMechanics& s, double mass_kg) {
-  return std::pow(mass_kg * kGravity_m_s2 / terrain::bekker_modulus_Pa(s, 1.0), 1.0 / s.n);
-}
-
 struct TimedRun {
   double sinkage_m = 0.0;
   double simulated_s = 0.0, wall_s = 0.0;
 };
 
-// The weight is applied over 1 s (a quasi-static plate-loading test) and held
-// until the plate has stopped (at most 10 s in all). The plate's edges fall
-// off the cell edges, so partly covered cells must carry their share.
+// The plate-loading experiment (terrain/plate_loading.h), timed.
 TimedRun settle_plate(const SoilMechanics& soil, double mass_kg, double cells_per_m) {
-  constexpr double kHalfThickness = 0.05;
   GranularGrid g = flat_site(cells_per_m, 1.7);
-  terrain::SoilContactModel model(g, soil);
-  terrain::OrientedBox plate;
-  plate.half_extents_m = {0.5, 0.5, kHalfThickness};
-  terrain::TranslatingBody body;
-  body.mass_kg = mass_kg;
-  body.position_m = {0.8137, 0.7731, kSoilDepthM + kHalfThickness};
-  int still_steps = 0, step = 0;
   const auto start = std::chrono::steady_clock::now();
-  for (; step < 5000 && still_steps < 100; ++step) {
-    const double t = step * kStepS;
-    still_steps = t > 1.0 && std::abs(body.velocity_m_s.z()) < 2e-6 ? still_steps + 1 : 0;
-    plate.centre_m = body.position_m;
-    const terrain::BodyReaction r = model.interact(0, plate, body.motion());
-    body.step(r, {0.0, 0.0, -mass_kg * kGravity_m_s2 * std::min(1.0, t / 1.0)}, kStepS);
-    g.step();
-  }
-  return {kSoilDepthM - (body.position_m.z() - kHalfThickness), step * kStepS, seconds_since(start)};
+  const terrain::PlateLoadingRun r = terrain::run_plate_loading(g, soil, mass_kg, kSoilDepthM, kStepS);
+  return {r.sinkage_m, r.simulated_s, seconds_since(start)};
 }
 
 // --- Rigid wheel (Bekker; LOADER.md) ---------------------------------------------
@@ -145,9 +114,9 @@ ReportSection plate_sinkage_section(const ReportContext& ctx) {
     double worst = 0.0, sim = 0.0, wall = 0.0;  // worst: relative error over the exponents
     std::string detail;
     for (const double n : exponents) {
-      const SoilMechanics soil = soil_with_exponent(n);
+      const SoilMechanics soil = terrain::plate_test_soil(n);
       const TimedRun run = settle_plate(soil, mass_kg, c);
-      const double expected = bekker_plate_depth_m(soil, mass_kg);
+      const double expected = terrain::bekker_plate_depth_m(soil, mass_kg);
       const double error = std::abs(run.sinkage_m / expected - 1.0);
       worst = std::max(worst, error);
       worst_m = std::max(worst_m, std::abs(run.sinkage_m - expected));

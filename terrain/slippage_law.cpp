@@ -43,7 +43,7 @@ SliceFailure slice_failure(const SlippageLaw& law, double step_m, double run_m) 
   out.fails = true;
   out.critical_angle_rad = beta0;
   out.excess_m = excess;
-  out.accel_m_s2 = std::max(0.0, kGravityM_s2 * force_m2 / area_m2);
+  out.accel_m_s2 = std::max(0.0, kGravity_m_s2 * force_m2 / area_m2);
   return out;
 }
 
@@ -79,7 +79,7 @@ SlippageLaw derive_slippage_law(const SoilFlowParameters& soil, double cell_size
   SlippageLaw law;
   law.cell_size_m = cell_size_m;
   law.phi_rad = soil.slip_friction_deg() * kPi / 180.0;
-  const double unit_weight = soil.bulk_density_kg_m3 * kGravityM_s2;
+  const double unit_weight = soil.bulk_density_kg_m3 * kGravity_m_s2;
   law.cohesion_length_m = 2.0 * soil.slip_cohesion_Pa * std::cos(law.phi_rad) / unit_weight;
   law.max_speed_m_s = soil.rolling_speed_m_per_s;
   law.courant_limit = courant_limit * bound_fraction;

@@ -14,10 +14,9 @@
 #pragma once
 
 #include "terrain/flow_law.h"
+#include "terrain/soil_mechanics.h"  // kGravity_m_s2
 
 namespace skidsim::terrain {
-
-inline constexpr double kGravityM_s2 = 9.81;
 
 // Largest Courant number v dt_sweep / d for which a slippage sweep keeps the
 // discrete maximum principle. A face sends at most 1/2 (v dt / d) of its drop

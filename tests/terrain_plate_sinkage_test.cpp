@@ -13,6 +13,7 @@
 
 #include "terrain/body_shapes.h"
 #include "terrain/soil_contact.h"
+#include "terrain/plate_loading.h"
 #include "tests/soil_contact_support.h"
 
 namespace skidsim::terrain {
@@ -24,48 +25,19 @@ constexpr double kDt = 0.002;
 constexpr double kSoilDepth = 0.5;
 constexpr double kPlateHalfThickness = 0.05;
 
-// Soil with Bekker exponent n whose k_phi puts a 1000 kg plate 0.15 m deep,
-// so every n gives sinkages of centimetres (as in the thesis's table 7.6).
-SoilMechanics soil_with_exponent(double n) {
-  SoilMechanics s;
-  s.n = n;
-  s.k_c_kN_per_m_n1 = 0.0;
-  s.k_phi_kN_per_m_n2 = 1000.0 * kGravity_m_s2 / std::pow(0.15, n) / 1000.0;
-  return s;
-}
-
-double bekker_depth(const SoilMechanics& s, double mass_kg) {
-  return std::pow(mass_kg * kGravity_m_s2 / bekker_modulus_Pa(s, 1.0), 1.0 / s.n);
-}
-
 struct PlateRun {
   double sinkage_m = 0.0;
   double final_speed_m_s = 0.0;
   double supported_N = 0.0;
 };
 
-// The weight is applied over 1 s (a plate-loading test, quasi-static) and
-// held until the plate has stopped (at most 9 s more); the soil's damping
-// keeps the loading branch overdamped, so the plate creeps down to rest.
+// The plate-loading experiment (terrain/plate_loading.h) on 0.5 m of sand;
+// the soil's damping keeps the loading branch overdamped, so the plate
+// creeps down to rest.
 PlateRun settle_plate(const SoilMechanics& soil, double mass_kg, double cells_per_m) {
   GranularGrid g = testing::flat_site(cells_per_m, 1.7, kSoilDepth, kDt);
-  SoilContactModel model(g, soil);
-  OrientedBox plate;
-  plate.half_extents_m = {0.5, 0.5, kPlateHalfThickness};
-  TranslatingBody body;
-  body.mass_kg = mass_kg;
-  body.position_m = {0.8137, 0.7731, kSoilDepth + kPlateHalfThickness};
-  BodyReaction r;
-  int still_steps = 0;
-  for (int step = 0; step < 5000 && still_steps < 100; ++step) {
-    const double t = step * kDt;
-    still_steps = t > 1.0 && std::abs(body.velocity_m_s.z()) < 2e-6 ? still_steps + 1 : 0;
-    plate.centre_m = body.position_m;
-    r = model.interact(0, plate, body.motion());
-    body.step(r, {0.0, 0.0, -mass_kg * kGravity_m_s2 * std::min(1.0, t / 1.0)}, kDt);
-    g.step();
-  }
-  return {kSoilDepth - (body.position_m.z() - kPlateHalfThickness), std::abs(body.velocity_m_s.z()), r.force_N.z()};
+  const PlateLoadingRun r = run_plate_loading(g, soil, mass_kg, kSoilDepth, kDt);
+  return {r.sinkage_m, r.final_speed_m_s, r.supported_N};
 }
 
 class PlateSinkageExponent : public ::testing::TestWithParam<double> {};
@@ -73,9 +45,9 @@ class PlateSinkageExponent : public ::testing::TestWithParam<double> {};
 TEST_P(PlateSinkageExponent, SettlesAtBekkerDepthForEveryMassAndCellSize) {
   {
     const double n = GetParam();
-    const SoilMechanics soil = soil_with_exponent(n);
+    const SoilMechanics soil = plate_test_soil(n);
     for (double mass : {200.0, 500.0, 1000.0}) {
-      const double expected = bekker_depth(soil, mass);
+      const double expected = bekker_plate_depth_m(soil, mass);
       double lowest = 1e9, highest = 0.0;
       for (double cells_per_m : {5.0, 10.0, 20.0, 50.0}) {
         const PlateRun run = settle_plate(soil, mass, cells_per_m);
@@ -189,7 +161,7 @@ namespace {
 TEST(SoilRegions, EachPartOfTheFootprintFollowsItsOwnSoil) {
   for (double cells_per_m : {10.0, 20.0}) {
     GranularGrid g = testing::flat_site(cells_per_m, 2.0, kSoilDepth, kDt);
-    SoilMechanics soft = soil_with_exponent(1.1), stiff = soft;
+    SoilMechanics soft = plate_test_soil(1.1), stiff = soft;
     stiff.k_phi_kN_per_m_n2 *= 3.0;
     SoilContactModel model(g, soft);
     const int stiff_index = model.add_soil(stiff);

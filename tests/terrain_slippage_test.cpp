@@ -42,7 +42,7 @@ TEST(SliceFailure, CohesionlessSliceFailsPastPhiOnAPlaneAtPhi) {
   EXPECT_NEAR(f.excess_m, d * (std::tan(rad(33.1)) - std::tan(rad(33.0))), 1e-12);
   // (3.7) on a thin wedge: (run excess / 2) sin(beta_0) per unit weight, so
   // the wedge accelerates at g sin(phi) (0.1 % for a 0.1 deg excess).
-  EXPECT_NEAR(f.accel_m_s2, kGravityM_s2 * std::sin(rad(33.0)), 1e-3 * kGravityM_s2);
+  EXPECT_NEAR(f.accel_m_s2, kGravity_m_s2 * std::sin(rad(33.0)), 1e-3 * kGravity_m_s2);
   EXPECT_DOUBLE_EQ(critical_step_m(law, d), d * std::tan(rad(33.0)));
 }
 
@@ -50,8 +50,8 @@ TEST(SliceFailure, CohesiveCriticalStepTendsToCulmannsVerticalCut) {
   // A stiff sandy loam (c = 9.65 kPa, phi = 35 deg, the soil table's
   // sandy_loam_23): Culmann's critical height 4 c / gamma tan(45 + phi/2).
   const SoilFlowParameters soil = slippage_soil(9650.0, 35.0);
-  const double culmann = culmann_critical_height_m(9650.0, 35.0, 1800.0 * kGravityM_s2);
-  EXPECT_NEAR(culmann, 4.0 * 9650.0 / (1800.0 * 9.81) * std::tan(rad(62.5)), 1e-12);
+  const double culmann = culmann_critical_height_m(9650.0, 35.0, 1800.0 * kGravity_m_s2);
+  EXPECT_NEAR(culmann, 4.0 * 9650.0 / (1800.0 * kGravity_m_s2) * std::tan(rad(62.5)), 1e-12);
   const SlippageLaw law = derive_slippage_law(soil, 0.05, kDt, 64);
   // A run much shorter than the step is a vertical cut: 0.1 % at 1/1000.
   EXPECT_NEAR(critical_step_m(law, culmann * 1e-3), culmann, 2e-3 * culmann);
@@ -110,7 +110,7 @@ TEST_P(SlippageCut, CohesiveCutStandsBelowTheCriticalHeightAndFailsAbove) {
     return g;
   };
   const double critical = critical_step_m(make(0.1)->slippage_law(), cell);
-  const double culmann = culmann_critical_height_m(2000.0, 30.0, 1800.0 * kGravityM_s2);
+  const double culmann = culmann_critical_height_m(2000.0, 30.0, 1800.0 * kGravity_m_s2);
   // The run (one cell) is short beside the cut: a little above Culmann.
   EXPECT_GT(critical, culmann);
   EXPECT_LT(critical, 1.15 * culmann);
