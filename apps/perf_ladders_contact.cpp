@@ -15,7 +15,7 @@
 #include "terrain/granular_grid.h"
 #include "terrain/soil_contact.h"
 #include "terrain/soil_mechanics.h"
-#include "terrain/plate_loading.h"
+#include "terrain/loading_experiments.h"
 #include "terrain/translating_body.h"
 
 namespace skidsim::apps::perf {
@@ -55,7 +55,7 @@ struct TimedRun {
   double simulated_s = 0.0, wall_s = 0.0;
 };
 
-// The plate-loading experiment (terrain/plate_loading.h), timed.
+// The plate-loading experiment (terrain/loading_experiments.h), timed.
 TimedRun settle_plate(const SoilMechanics& soil, double mass_kg, double cells_per_m) {
   GranularGrid g = flat_site(cells_per_m, 1.7);
   const auto start = std::chrono::steady_clock::now();
@@ -70,32 +70,11 @@ constexpr double kWheelRadiusM = 0.3, kWheelWidthM = 0.3, kWheelMassKg = 600.0;
 // A wheel of 0.6 m x 0.3 m loaded over 1 s: standing for 6 s, or towed at
 // 0.25 m/s for 2.8 m (rolling: its lowest point still).
 TimedRun run_wheel(double cells_per_m, double speed_m_s) {
-  const SoilMechanics sand;
   GranularGrid g = flat_site(cells_per_m, speed_m_s > 0.0 ? 4.0 : 1.6);
-  terrain::SoilContactModel model(g, sand);
-  terrain::Cylinder wheel;
-  wheel.radius_m = kWheelRadiusM;
-  wheel.half_width_m = 0.5 * kWheelWidthM;
-  terrain::TranslatingBody body;
-  body.mass_kg = kWheelMassKg;
-  body.position_m = {0.6137, 0.7871, kSoilDepthM + kWheelRadiusM};
-  const int steps = speed_m_s > 0.0 ? static_cast<int>(2.8 / speed_m_s / kStepS) : 3000;
   const auto start = std::chrono::steady_clock::now();
-  for (int step = 0; step < steps; ++step) {
-    const double t = step * kStepS;
-    wheel.centre_m = body.position_m;
-    terrain::BodyMotion motion = body.motion();
-    motion.linear_velocity_m_s.x() = speed_m_s;
-    motion.angular_velocity_rad_s = {0.0, speed_m_s / kWheelRadiusM, 0.0};
-    const terrain::BodyReaction r = model.interact(0, wheel, motion);
-    body.step(r, {0.0, 0.0, -kWheelMassKg * kGravity_m_s2 * std::min(1.0, t / 1.0)}, kStepS);
-    body.velocity_m_s.x() = speed_m_s;  // towed
-    body.velocity_m_s.y() = 0.0;
-    body.position_m.x() = 0.6137 + speed_m_s * (t + kStepS);
-    body.position_m.y() = 0.7871;
-    g.step();
-  }
-  return {kSoilDepthM - (body.position_m.z() - kWheelRadiusM), steps * kStepS, seconds_since(start)};
+  const terrain::WheelLoadingRun r = terrain::run_rigid_wheel(g, SoilMechanics{}, kWheelMassKg, kWheelRadiusM,
+                                                              kWheelWidthM, speed_m_s, kSoilDepthM, kStepS);
+  return {r.sinkage_m, r.simulated_s, seconds_since(start)};
 }
 
 }  // namespace
@@ -162,8 +141,7 @@ ReportSection wheel_sinkage_section(const ReportContext& ctx) {
   // carries the load on the front half of the contact only (a towed wheel); a
   // standing wheel is carried by both halves and sinks 2^(-2/(2n+1)) of z0.
   const double load_N = kWheelMassKg * kGravity_m_s2;
-  const double k = 1000.0 * (sand.k_c_kN_per_m_n1 + kWheelWidthM * sand.k_phi_kN_per_m_n2);
-  const double z0 = std::pow(3.0 * load_N / ((3.0 - sand.n) * k * std::sqrt(2.0 * kWheelRadiusM)), 2.0 / (2.0 * sand.n + 1.0));
+  const double z0 = terrain::bekker_rigid_wheel_depth_m(sand, load_N, kWheelRadiusM, kWheelWidthM);
   const double standing_ref = z0 * std::pow(2.0, -2.0 / (2.0 * sand.n + 1.0));
   std::vector<Rung> standing, towed;
   std::vector<double> standing_m, towed_m;

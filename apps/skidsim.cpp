@@ -155,7 +155,8 @@ int list_soils(const std::string& path) {
   for (const auto& [id, rec] : table) {
     std::cout << "  " << id << ": " << rec.description << " (density " << rec.flow.bulk_density_kg_m3
               << " kg/m^3, repose " << rec.flow.repose_angle_deg << " deg, stop " << rec.flow.stop_angle_deg
-              << " deg)\n";
+              << " deg; slippage model: c " << rec.flow.slip_cohesion_Pa / 1000.0 << " kPa, phi "
+              << rec.flow.slip_friction_deg() << " deg)\n";
   }
   return 0;
 }

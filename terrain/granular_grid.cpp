@@ -74,9 +74,15 @@ GranularGrid::GranularGrid(const GridSpec& spec, const SoilFlowParameters& soil,
   if (slippage) {
     slip_ = derive_slippage_law(soil, spec.cell_size_m, step_dt_s, max_substeps, spec.flow_bound_fraction,
                                 spec.slide_courant_limit, spec.slide_beyond_bound_for_study);
+    // The grid sweeps at the slippage model's sub-steps. The automaton's law
+    // stays for what bodies exchange per step (material over a bucket's
+    // lip, 6.3, material_exchange.cpp): its z+ per sweep is rescaled so
+    // that z+ per step is unchanged.
+    law_.z_plus_per_sweep_m *= static_cast<double>(law_.substeps) / slip_.substeps;
     law_.substeps = slip_.substeps;
     law_.sweep_dt_s = slip_.sweep_dt_s;
     slide_speed_.assign(n, 0.0f);
+    loose_.assign(n, 0);
   }
   quanta_.assign(n, 0);
   base_m_.assign(n, 0.0f);
@@ -114,6 +120,7 @@ std::int64_t GranularGrid::compact_quanta(int cell, std::int64_t quanta) {
   if (q == 0) return 0;
   if (compacted_.empty()) compacted_.assign(quanta_.size(), 0);
   quanta_[cell] -= q;
+  take_from_top(cell, q);
   compacted_[cell] += q;
   refresh_surface(cell);
   wake(cell);
@@ -124,10 +131,12 @@ std::int64_t GranularGrid::transfer_quanta(int from, int to, std::int64_t quanta
   const std::int64_t q = std::max<std::int64_t>(0, std::min(quanta, quanta_[from]));
   if (q == 0) return 0;
   quanta_[from] -= q;
+  take_from_top(from, q);
   refresh_surface(from);
   wake(from);
   if (to >= 0) {
     quanta_[to] += q;
+    loosen(to, q);
     flags_[to] |= kFlowing;  // pushed material arrives moving (4.5)
     refresh_surface(to);
     wake(to);
@@ -217,6 +226,7 @@ void GranularGrid::set_material_m(int i, int j, double material_m) {
   const std::int64_t q = to_quanta(material_m);
   ledger_.initial += q - quanta_[c];
   quanta_[c] = q;
+  if (!loose_.empty()) loose_[c] = 0;  // the ground as it lies: intact
   refresh_surface(c);
   wake(c);
 }
@@ -234,6 +244,7 @@ double GranularGrid::add_material_m3(int i, int j, double volume_m3) {
   const std::int64_t q = std::llround(volume_m3 / quantum_volume_m3());
   if (q == 0) return 0.0;
   quanta_[c] += q;
+  loosen(c, q);
   ledger_.added += q;
   // Poured material arrives moving: the cell flows (4.5) until it settles.
   flags_[c] |= kFlowing;
@@ -255,6 +266,7 @@ double GranularGrid::remove_material_m3(int i, int j, double volume_m3) {
   const std::int64_t q = wanted >= static_cast<double>(quanta_[c]) ? quanta_[c] : std::llround(wanted);
   if (q == 0) return 0.0;
   quanta_[c] -= q;
+  take_from_top(c, q);
   ledger_.removed += q;
   refresh_surface(c);
   wake(c);
@@ -430,6 +442,7 @@ void GranularGrid::sweep_sparse() {
       if (flux.out[d] == 0) continue;
       if (!(f & kOnEdgeBit[d])) {
         quanta_[c + offset[d]] += flux.out[d];
+        loosen(c + offset[d], flux.out[d]);  // what slid lies loose on its new cell
         mark_changed(c + offset[d]);
       } else {
         send_over_edge(c, d, flux.out[d]);
@@ -610,18 +623,28 @@ __attribute__((target_clones("avx2", "default"))) void GranularGrid::sparse_flux
 
 void GranularGrid::slippage_fluxes() {
   const double d = spec_.cell_size_m, inv_d = 1.0 / d, dt = slip_.sweep_dt_s;
+  SlippageLaw remoulded = slip_;  // the loose layer: no cohesion
+  remoulded.cohesion_length_m = 0.0;
   for (std::size_t k = 0; k < current_.size(); ++k) {
     const std::uint32_t c = current_[k];
     const FaceGeometry g = face_geometry(c);
+    // The intact soil's slices first; where none fails, the loose layer on
+    // top may still slide by friction alone, but no more than it holds.
+    const std::int64_t loose = std::min(loose_[c], quanta_[c]);
+    bool intact_fails = false;
     SliceFailure failure[4];
     double tan_beta[4] = {1.0, 1.0, 1.0, 1.0};
-    double accel = 0.0;
     for (int f = 0; f < 4; ++f) {
       if (!(g.drop[f] > 0.0)) continue;
       tan_beta[f] = std::hypot(g.drop[f], g.tangential[f]) * inv_d;
       failure[f] = slice_failure(slip_, tan_beta[f] * d, d);
-      accel = std::max(accel, failure[f].accel_m_s2);
+      intact_fails |= failure[f].fails;
     }
+    if (!intact_fails && loose > 0 && slip_.cohesion_length_m > 0.0)
+      for (int f = 0; f < 4; ++f)
+        if (g.drop[f] > 0.0) failure[f] = slice_failure(remoulded, tan_beta[f] * d, d);
+    double accel = 0.0;
+    for (int f = 0; f < 4; ++f) accel = std::max(accel, failure[f].accel_m_s2);
     // (5.1): the wedge of the steepest failing slice speeds up; a stable
     // cell's wedge is held by friction and stops.
     float& speed = slide_speed_[c];
@@ -636,9 +659,12 @@ void GranularGrid::slippage_fluxes() {
       q[f] = failure[f].fails ? std::min(moved_m * (1.0 / kHeightQuantumM), 2.0e9) + 0.5 : 0.0;
     }
     flux_[k].cell = c;
-    flux_[k].out = clamp_to_available(q, quanta_[c]);
-    const bool moved = (flux_[k].out[0] | flux_[k].out[1] | flux_[k].out[2] | flux_[k].out[3]) != 0;
-    speed = moved ? static_cast<float>(v) : 0.0f;  // nothing moved: nothing slides
+    flux_[k].out = clamp_to_available(q, intact_fails ? quanta_[c] : loose);
+    const std::int64_t sent = std::int64_t{flux_[k].out[0]} + flux_[k].out[1] + flux_[k].out[2] + flux_[k].out[3];
+    speed = sent != 0 ? static_cast<float>(v) : 0.0f;  // nothing moved: nothing slides
+    // What leaves goes from the top, loose first. Only this cell's own entry
+    // is written, so the sweep stays independent of the visiting order.
+    take_from_top(c, sent);
   }
 }
 

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -99,6 +100,13 @@ class GranularGrid {
   // ground_model() is kSlippage), and the speed of a cell's sliding wedge.
   const SlippageLaw& slippage_law() const { return slip_; }
   double slide_speed_m_s(int i, int j) const { return slide_speed_.empty() ? 0.0 : slide_speed_[index(i, j)]; }
+  // Slippage model: the disturbed material lying loose on top of a cell's
+  // column (dumped, pushed, slid or poured there since the initial state).
+  // It has lost the soil's cohesion (remoulded), so it slides at phi while
+  // the intact soil under it keeps its strength.
+  double loose_material_m(int i, int j) const {
+    return loose_.empty() ? 0.0 : std::min(loose_[index(i, j)], quanta_[index(i, j)]) * kHeightQuantumM;
+  }
   int nx() const { return spec_.nx; }
   int ny() const { return spec_.ny; }
   double cell_size_m() const { return spec_.cell_size_m; }
@@ -277,6 +285,14 @@ class GranularGrid {
   }
   // What crosses an open edge: off-site, or held for the caller.
   void send_over_edge(std::uint32_t cell, int direction, std::int64_t quanta);
+  // Slippage model's loose layer (loose_material_m): arrivals lie on top;
+  // departures take the top first.
+  void loosen(std::size_t cell, std::int64_t quanta) {
+    if (!loose_.empty()) loose_[cell] += quanta;
+  }
+  void take_from_top(std::size_t cell, std::int64_t quanta) {
+    if (!loose_.empty()) loose_[cell] = std::max<std::int64_t>(0, loose_[cell] - quanta);
+  }
   void wake_material_cells();
   void sweep();
   void sweep_sparse();
@@ -323,6 +339,7 @@ class GranularGrid {
   FlowLaw law_;
   SlippageLaw slip_;
   std::vector<float> slide_speed_;  // slippage model: per cell, m/s
+  std::vector<std::int64_t> loose_;  // slippage model: per cell, quanta of loose material on top
   std::vector<std::int64_t> quanta_;
   std::vector<float> base_m_;
   std::vector<double> surface_m_;  // base + material, kept in step with both

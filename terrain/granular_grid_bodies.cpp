@@ -84,6 +84,7 @@ std::int64_t GranularGrid::export_quanta(int cell, std::int64_t quanta) {
   const std::int64_t q = std::max<std::int64_t>(0, std::min(quanta, quanta_[cell]));
   if (q == 0) return 0;
   quanta_[cell] -= q;
+  take_from_top(static_cast<std::size_t>(cell), q);
   ledger_.exported += q;
   refresh_surface(cell);
   wake(cell);
@@ -93,6 +94,7 @@ std::int64_t GranularGrid::export_quanta(int cell, std::int64_t quanta) {
 void GranularGrid::import_quanta(int cell, std::int64_t quanta) {
   if (quanta <= 0) return;
   quanta_[cell] += quanta;
+  loosen(static_cast<std::size_t>(cell), quanta);
   ledger_.imported += quanta;
   flags_[cell] |= kFlowing;  // it arrives moving (4.5)
   refresh_surface(cell);

@@ -13,7 +13,7 @@
 
 #include "terrain/body_shapes.h"
 #include "terrain/soil_contact.h"
-#include "terrain/plate_loading.h"
+#include "terrain/loading_experiments.h"
 #include "tests/soil_contact_support.h"
 
 namespace skidsim::terrain {
@@ -31,7 +31,7 @@ struct PlateRun {
   double supported_N = 0.0;
 };
 
-// The plate-loading experiment (terrain/plate_loading.h) on 0.5 m of sand;
+// The plate-loading experiment (terrain/loading_experiments.h) on 0.5 m of sand;
 // the soil's damping keeps the loading branch overdamped, so the plate
 // creeps down to rest.
 PlateRun settle_plate(const SoilMechanics& soil, double mass_kg, double cells_per_m) {
@@ -215,32 +215,8 @@ struct WheelRun {
 };
 
 WheelRun run_wheel(double cells_per_m, double mass, double speed_m_s) {
-  const SoilMechanics sand;
-  const double radius = 0.3, width = 0.3;
   GranularGrid g = testing::flat_site(cells_per_m, speed_m_s > 0.0 ? 4.0 : 1.6, kSoilDepth, kDt);
-  SoilContactModel model(g, sand);
-  Cylinder wheel;
-  wheel.radius_m = radius;
-  wheel.half_width_m = 0.5 * width;
-  testing::TranslatingBody body;
-  body.mass_kg = mass;
-  body.position_m = {0.6137, 0.7871, kSoilDepth + radius};
-  const int steps = speed_m_s > 0.0 ? static_cast<int>(2.8 / speed_m_s / kDt) : 3000;
-  for (int step = 0; step < steps; ++step) {
-    const double t = step * kDt;
-    wheel.centre_m = body.position_m;
-    BodyMotion motion = body.motion();
-    motion.linear_velocity_m_s.x() = speed_m_s;
-    motion.angular_velocity_rad_s = {0.0, speed_m_s / radius, 0.0};  // rolling: the lowest point is still
-    const BodyReaction r = model.interact(0, wheel, motion);
-    body.step(r, {0.0, 0.0, -mass * kGravity_m_s2 * std::min(1.0, t / 1.0)}, kDt);
-    body.velocity_m_s.x() = speed_m_s;  // towed
-    body.velocity_m_s.y() = 0.0;
-    body.position_m.x() = 0.6137 + speed_m_s * (t + kDt);
-    body.position_m.y() = 0.7871;
-    g.step();
-  }
-  return {kSoilDepth - (body.position_m.z() - radius)};
+  return {run_rigid_wheel(g, SoilMechanics{}, mass, 0.3, 0.3, speed_m_s, kSoilDepth, kDt).sinkage_m};
 }
 
 TEST(WheelSinkage, StandingWheelFollowsBekkersRigidWheelFormulaOverBothHalves) {
@@ -249,9 +225,7 @@ TEST(WheelSinkage, StandingWheelFollowsBekkersRigidWheelFormulaOverBothHalves) {
   for (double cells_per_m : {20.0, 40.0}) {
     for (double mass : {300.0, 600.0}) {
       const double load = mass * kGravity_m_s2;
-      const double k = 1000.0 * (sand.k_c_kN_per_m_n1 + width * sand.k_phi_kN_per_m_n2);
-      const double bekker =
-          std::pow(3.0 * load / ((3.0 - sand.n) * k * std::sqrt(2.0 * radius)), 2.0 / (2.0 * sand.n + 1.0));
+      const double bekker = bekker_rigid_wheel_depth_m(sand, load, radius, width);
       const double towed = run_wheel(cells_per_m, mass, 0.25).sinkage_m;
       const double standing = run_wheel(cells_per_m, mass, 0.0).sinkage_m;
       const double both_halves = bekker * std::pow(2.0, -2.0 / (2.0 * sand.n + 1.0));
