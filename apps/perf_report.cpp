@@ -168,6 +168,7 @@ int write_perf_report(const PerfReportJob& job) {
       {"wheel sinkage", perf::wheel_sinkage_section},
       {"thesis tables 7.1, 7.4, 7.5", perf::thesis_tables_section},
       {"whole sessions, table 9.3", perf::sessions_section},
+      {"level of detail", perf::level_of_detail_section},
       {"two ground models", perf::ground_models_section},
   };
   std::vector<perf::ReportSection> sections;

@@ -117,6 +117,7 @@ ReportSection plate_sinkage_section(const ReportContext& ctx);    // perf_ladder
 ReportSection wheel_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
 ReportSection thesis_tables_section(const ReportContext& ctx);    // perf_thesis_tables.cpp (tables 7.1, 7.4, 7.5)
 ReportSection sessions_section(const ReportContext& ctx);         // perf_sessions.cpp (whole sessions; table 9.3)
+ReportSection level_of_detail_section(const ReportContext& ctx);  // perf_level_of_detail.cpp (a big site at rest)
 ReportSection ground_models_section(const ReportContext& ctx);    // perf_ground_models.cpp (automaton vs slippage)
 
 }  // namespace skidsim::apps::perf

@@ -154,6 +154,12 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
   for (const auto& row : table93) measured += finite_number(row[3]) ? 1 : 0;
   EXPECT_EQ(measured, 2) << "5 and 10 cells/m, from the sessions above";
 
+  // Level of detail: both corner sites and the terrain at rest measured.
+  const auto lod = table_rows(section(md, "## Level of detail"));
+  ASSERT_EQ(lod.size(), 3u);
+  for (const auto& row : lod) EXPECT_TRUE(finite_number(row[2].substr(0, row[2].find(' ')))) << row[2];
+  EXPECT_NE(section(md, "## Level of detail").find("Measured: the 100 m site's step costs"), std::string::npos);
+
   // Both ground models on the same cases, from the run: the column in each
   // model at both rungs, the cohesive cut (the slippage model keeps the low
   // cut: nothing slides past its foot), the critical height's ladder, and
