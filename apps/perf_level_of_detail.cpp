@@ -38,8 +38,9 @@ ReportSection level_of_detail_section(const ReportContext& ctx) {
   md << "\n";
   if (small_us > 0.0 && large_us > 0.0)
     md << "Measured: the 100 m site's step costs " << fmt("%.2f", large_us / small_us) << " times the 20 m site's, with "
-       << fmt("%.0f", large_cells / small_cells) << " times the cells: its " << fmt("%.0f", large_cells - small_cells)
-       << " more cells, at rest away from the machine, cost nothing per step, only their memory ("
+       << fmt("%.0f", large_cells / small_cells) << " times the cells. What differs is the machine's own work (the cells "
+       << "moving, sampled at the end of each run, above); the " << fmt("%.0f", large_cells - small_cells)
+       << " more cells, at rest away from the machine, are never examined and cost only their memory ("
        << terrain::GranularGrid::kStateBytesPerCell << " bytes each).\n\n";
   ReportSection section;
   section.markdown = md.str();
