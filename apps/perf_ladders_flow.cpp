@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "apps/perf_report_parts.h"
+#include "terrain/bcre_bump.h"
 #include "terrain/granular_grid.h"
 #include "terrain/load_spreading.h"
 
@@ -28,14 +29,8 @@ std::string cell_label(double cell_m) { return fmt("%g cm", 100.0 * cell_m); }
 
 // --- BCRE consistency (thesis 4.4.2) ---------------------------------------
 //
-// A 2 m strip (one row of cells) inclined at 55 deg, every cell flowing
-// (above the full-flow angle eta = 45 deg, so z+ is constant), carrying a
-// Gaussian bump of amplitude A and width sigma0. The excess over the plane
-// diffuses as dh/dt = D lap(h), D = v h_r, so
-//   u(x, t) = A sigma0 / sigma(t) exp(-(x - x0)^2 / (2 sigma(t)^2)),
-//   sigma^2 = sigma0^2 + 2 D t.
-// The error is the largest |u - u_exact| over the middle metre after
-// 0.02 s, relative to A (the test's measure).
+// The strip of terrain/bcre_bump.h (a Gaussian bump diffusing on a 55 deg
+// slope, against the diffusion's closed form), run for 0.02 s.
 struct BumpRun {
   double error = 0.0;
   double cost = 0.0;  // wall s per simulated s, the steps alone
@@ -44,22 +39,9 @@ struct BumpRun {
   double sweep_dt_s = 0.0;
 };
 
-constexpr double kStripM = 2.0, kBumpX0 = 1.0, kBumpA = 0.02, kBumpSigma0 = 0.1, kBumpEndS = 0.02;
+constexpr double kBumpEndS = 0.02;
 
 BumpRun diffusing_bump(double cell_m, double bound_fraction, double timing_wall_s) {
-  const SoilFlowParameters soil;
-  const double slope = std::tan(55.0 * kPi / 180.0);
-  const double diffusivity = soil.rolling_speed_m_per_s * soil.rolling_layer_m;
-  GridSpec spec;
-  spec.nx = static_cast<int>(std::lround(kStripM / cell_m));
-  spec.ny = 1;
-  spec.cell_size_m = cell_m;
-  spec.flow_bound_fraction = bound_fraction;
-  const auto x_of = [&](int i) { return (i + 0.5) * cell_m; };
-  const auto bump = [&](double x, double t) {
-    const double s2 = kBumpSigma0 * kBumpSigma0 + 2.0 * diffusivity * t;
-    return kBumpA * kBumpSigma0 / std::sqrt(s2) * std::exp(-(x - kBumpX0) * (x - kBumpX0) / (2.0 * s2));
-  };
   const long steps = std::lround(kBumpEndS / kStepS);
   BumpRun out;
   double timed_s = 0.0;
@@ -67,20 +49,13 @@ BumpRun diffusing_bump(double cell_m, double bound_fraction, double timing_wall_
   // The same run again until the steps have taken `timing_wall_s` of wall
   // time (at least once): the cost of exactly the run that was measured.
   do {
-    GranularGrid g(spec, soil, kStepS, 100000);
-    for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, 0.5 + slope * x_of(i) + bump(x_of(i), 0.0));
+    GranularGrid g = terrain::bcre_bump_strip(cell_m, kStepS, bound_fraction);
     const auto start = std::chrono::steady_clock::now();
-    for (long s = 0; s < steps; ++s) g.step();  // every cell starts flowing, as on a running slope
+    for (long s = 0; s < steps; ++s) g.step();
     timed_s += seconds_since(start);
     ++runs;
     if (runs == 1) {
-      const double t_end = static_cast<double>(steps) * kStepS;
-      for (int i = 0; i < spec.nx; ++i) {
-        const double x = x_of(i);
-        if (std::abs(x - kBumpX0) > 0.5) continue;
-        const double u = g.material_m(i, 0) - 0.5 - slope * x;
-        out.error = std::max(out.error, std::abs(u - bump(x, t_end)) / kBumpA);
-      }
+      out.error = terrain::bcre_bump_error(g, static_cast<double>(steps) * kStepS);
       out.substeps = g.flow_law().substeps;
       out.z_plus_over_cell = g.flow_law().z_plus_per_sweep_m / cell_m;
       out.sweep_dt_s = g.flow_law().sweep_dt_s;
@@ -109,7 +84,7 @@ ReportSection bcre_section(const ReportContext& ctx) {
     cells.push_back(d);
     by_cell.push_back({cell_label(d), r.cost, 100.0 * r.error,
                        fmt("%.0f", r.substeps) + " sweeps per 2 ms step (z+/d = " + fmt("%.3f", r.z_plus_over_cell) + " per sweep); sigma0 = " +
-                           fmt("%.1f", kBumpSigma0 / d) + " cells"});
+                           fmt("%.1f", terrain::kBcreBumpSigma0M / d) + " cells"});
   }
   const Convergence cc = convergence(cells, by_cell, "error against the diffusion");
 
@@ -154,13 +129,13 @@ ReportSection bcre_section(const ReportContext& ctx) {
     for (std::size_t k = 0; k < cc.orders.size(); ++k)
       if (cc.orders[k] < 1.5) {
         s.markdown += " Short of it from " + by_cell[k].label + " to " + by_cell[k + 1].label + ", where sigma0 spans " +
-                      fmt("%.1f", kBumpSigma0 / cells[k]) + " to " + fmt("%.1f", kBumpSigma0 / cells[k + 1]) +
+                      fmt("%.1f", terrain::kBcreBumpSigma0M / cells[k]) + " to " + fmt("%.1f", terrain::kBcreBumpSigma0M / cells[k + 1]) +
                       " cells: the bump is not yet resolved there.";
         break;
       }
   }
   else
-    s.markdown += " The bump is " + fmt("%.1f", kBumpSigma0 / cells.back()) +
+    s.markdown += " The bump is " + fmt("%.1f", terrain::kBcreBumpSigma0M / cells.back()) +
                   " cells wide at the finest rung, so it is resolved: an error that does not fall with the cells is not the "
                   "Laplacian's (compare the sub-steps below).";
   if (cells.back() < 0.0125)

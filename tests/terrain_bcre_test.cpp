@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "terrain/bcre_bump.h"
 #include "tests/test_support.h"
 
 namespace skidsim::terrain {
@@ -14,40 +15,13 @@ namespace {
 using testing::kDt;
 using testing::kPi;
 
-// A 2 m strip inclined at 55 degrees (every cell flowing, above the full-flow
-// angle eta = 45 so z+ is constant) carrying a Gaussian bump u0 of amplitude
-// A and width sigma0. The excess diffuses: u(x, t) = A sigma0/sigma(t)
-// exp(-(x - x0)^2 / (2 sigma(t)^2)), sigma^2 = sigma0^2 + 2 D t, D = v h_r.
-// Returns the largest error over the middle metre relative to A.
+// The strip of terrain/bcre_bump.h run to `t_end_s`: the largest error over
+// the middle metre relative to the bump's height.
 double bump_error(double cell_m, double t_end_s) {
-  const SoilFlowParameters soil;
-  const double length_m = 2.0, x0 = 1.0, amplitude = 0.02, sigma0 = 0.1;
-  const double slope = std::tan(55.0 * kPi / 180.0);
-  const double diffusivity = soil.rolling_speed_m_per_s * soil.rolling_layer_m;
-  GridSpec spec;
-  spec.nx = static_cast<int>(std::lround(length_m / cell_m));
-  spec.ny = 1;
-  spec.cell_size_m = cell_m;
-  GranularGrid g(spec, soil, kDt, 100000);
-  const auto x_of = [&](int i) { return (i + 0.5) * cell_m; };
-  const auto bump = [&](double x, double t) {
-    const double s2 = sigma0 * sigma0 + 2.0 * diffusivity * t;
-    return amplitude * sigma0 / std::sqrt(s2) * std::exp(-(x - x0) * (x - x0) / (2.0 * s2));
-  };
-  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, 0.5 + slope * x_of(i) + bump(x_of(i), 0.0));
-  // Every cell starts flowing, as on a running slope.
-  g.step();
+  GranularGrid g = bcre_bump_strip(cell_m, kDt);
   const long steps = std::lround(t_end_s / kDt);
-  for (long s = 1; s < steps; ++s) g.step();
-  t_end_s = static_cast<double>(steps) * kDt;
-  double worst = 0.0;
-  for (int i = 0; i < spec.nx; ++i) {
-    const double x = x_of(i);
-    if (std::abs(x - x0) > 0.5) continue;
-    const double u = g.material_m(i, 0) - 0.5 - slope * x;
-    worst = std::max(worst, std::abs(u - bump(x, t_end_s)));
-  }
-  return worst / amplitude;
+  for (long s = 0; s < steps; ++s) g.step();
+  return bcre_bump_error(g, static_cast<double>(steps) * kDt);
 }
 
 TEST(BcreConsistency, ErrorShrinksWithTheGridAtSecondOrder) {
