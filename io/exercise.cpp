@@ -19,14 +19,14 @@ namespace {
 namespace fs = std::filesystem;
 
 Region read_region(AttributeReader& a, const char* name) {
-  const Eigen::VectorXd v = a.numbers(name, 4);
+  const Eigen::VectorXd v = a.numbers_in(name, 4, -kMaxCoordinate_m, kMaxCoordinate_m);
   if (!(v[0] < v[2] && v[1] < v[3]))
     a.fail(std::string("attribute '") + name + "': expected \"x0 y0 x1 y1\" with x0 < x1 and y0 < y1");
   return Region(Eigen::Vector2d(v[0], v[1]), Eigen::Vector2d(v[2], v[3]));
 }
 
 Eigen::Vector2d read_point(AttributeReader& a, const char* name) {
-  const Eigen::VectorXd v = a.numbers(name, 2);
+  const Eigen::VectorXd v = a.numbers_in(name, 2, -kMaxCoordinate_m, kMaxCoordinate_m);
   return {v[0], v[1]};
 }
 
@@ -44,8 +44,8 @@ std::vector<Eigen::Vector2d> read_points(AttributeReader& a, const char* name, s
     const double x = std::strtod(item.c_str(), &rest);
     char* after = nullptr;
     const double y = std::strtod(rest, &after);
-    if (after == rest || std::string(after).find_first_not_of(" \t\n\r") != std::string::npos || !std::isfinite(x) ||
-        !std::isfinite(y))
+    if (after == rest || std::string(after).find_first_not_of(" \t\n\r") != std::string::npos ||
+        !(std::abs(x) <= kMaxCoordinate_m) || !(std::abs(y) <= kMaxCoordinate_m))
       a.fail(std::string("attribute '") + name + "': \"" + item + "\" is not a point (expected \"x y; x y; ...\")");
     points.emplace_back(x, y);
     if (points.size() > 1000) a.fail(std::string("attribute '") + name + "': more than 1000 points");
@@ -152,7 +152,7 @@ struct Reader {
 
   void read_site(const tinyxml2::XMLElement* e, const std::string& table_path) {
     AttributeReader a(path, e);
-    const Eigen::VectorXd size = a.numbers("size_m", 2);
+    const Eigen::VectorXd size = a.numbers_in("size_m", 2, -kMaxCoordinate_m, kMaxCoordinate_m);
     ex.firm_ground = a.boolean_or("firm_ground", true);
     a.reject_unknown();
     if (!(size[0] >= 1.0 && size[1] >= 1.0 && size[0] <= 2000.0 && size[1] <= 2000.0))
@@ -183,9 +183,9 @@ struct Reader {
         BoxObstacle o;
         o.id = b.text("id", true);
         unique_id(b, o.id);
-        o.centre_m = b.vector3("centre");
-        o.size_m = b.vector3("size");
-        o.yaw_deg = b.number_or("yaw_deg", 0.0);
+        o.centre_m = b.vector3_in("centre", -kMaxCoordinate_m, kMaxCoordinate_m);
+        o.size_m = b.vector3_in("size", -kMaxCoordinate_m, kMaxCoordinate_m);
+        o.yaw_deg = b.number_in_or("yaw_deg", -360.0, 360.0, 0.0);
         b.reject_unknown();
         if (!(o.size_m.minCoeff() > 0.0 && o.size_m.maxCoeff() <= 100.0)) b.fail("attribute 'size': each side in (0, 100] m");
         on_site(b, footprint(o.centre_m.head<2>() - rotate(0.5 * o.size_m.head<2>(), o.yaw_deg), o.size_m.x(),
@@ -197,7 +197,7 @@ struct Reader {
         t.id = b.text("id", true);
         unique_id(b, t.id);
         t.back_corner_m = read_point(b, "back_corner");
-        t.yaw_deg = b.number_or("yaw_deg", 0.0);
+        t.yaw_deg = b.number_in_or("yaw_deg", -360.0, 360.0, 0.0);
         t.length_m = b.number_in("length_m", 0.5, 20.0);
         t.width_m = b.number_in("width_m", 0.5, 5.0);
         t.floor_height_m = b.number_in("floor_height_m", 0.0, 5.0);
@@ -422,7 +422,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
       MachineStart& m = r.ex.machine;
       m.loader = a.has("loader") ? resolve_file(a, path, "loader") : default_loader_path();
       m.position_m = read_point(a, "position");
-      m.yaw_deg = a.number_or("yaw_deg", 0.0);
+      m.yaw_deg = a.number_in_or("yaw_deg", -360.0, 360.0, 0.0);
       m.lift_rad = a.has("lift_rad") ? a.number_in("lift_rad", 0.0, 1.7) : m.lift_rad;
       m.tilt_rad = a.has("tilt_rad") ? a.number_in("tilt_rad", -0.6, 2.4) : m.tilt_rad;
       a.reject_unknown();
@@ -452,7 +452,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
       r.read_event(e);
     } else if (name == "scoring") {
       once(have_scoring);
-      r.ex.scoring.pass_score = a.number_or("pass_score", 0.0);
+      r.ex.scoring.pass_score = a.number_in_or("pass_score", -1e12, 1e12, 0.0);
       a.reject_unknown();
       std::set<std::string> seen;
       for (const tinyxml2::XMLElement* m = e->FirstChildElement(); m; m = m->NextSiblingElement()) {
@@ -483,8 +483,8 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
       rec.height = static_cast<int>(a.has("height") ? a.number_in("height", 16, 8192) : rec.height);
       if (a.has("fixed_eye") != a.has("fixed_target")) a.fail("give both fixed_eye and fixed_target, or neither");
       if (a.has("fixed_eye")) {
-        rec.fixed_eye_m = a.vector3("fixed_eye");
-        rec.fixed_target_m = a.vector3("fixed_target");
+        rec.fixed_eye_m = a.vector3_in("fixed_eye", -kMaxCoordinate_m, kMaxCoordinate_m);
+        rec.fixed_target_m = a.vector3_in("fixed_target", -kMaxCoordinate_m, kMaxCoordinate_m);
         if ((rec.fixed_eye_m - rec.fixed_target_m).norm() < 0.1) a.fail("fixed_eye and fixed_target are the same point");
       }
       a.reject_unknown();

@@ -285,8 +285,8 @@ void read_cylinder(LoaderDescription& d, const std::string& path, const tinyxml2
   c.max_length_m = a.number_in("max_length_m", 0.01, 20.0);
   if (!(c.max_length_m > c.min_length_m)) a.fail("max_length_m must exceed min_length_m");
   c.relief_pressure_Pa = a.number_in("relief_MPa", 0.1, 100.0) * 1e6;
-  c.parent_pin_m = a.vector3("parent_pin");
-  c.child_pin_m = a.vector3("child_pin");
+  c.parent_pin_m = a.vector3_in("parent_pin", -50.0, 50.0);
+  c.child_pin_m = a.vector3_in("child_pin", -50.0, 50.0);
   c.line = e->GetLineNum();
   a.reject_unknown();
   // The stroke must carry the joint through its whole range, one way (the
@@ -326,7 +326,7 @@ void read_bucket_interior(LoaderDescription& d, const std::string& path, const t
     if (name == "interior") {
       if (have_interior) a.fail("appears twice");
       have_interior = true;
-      in.origin_m = a.vector3("origin");
+      in.origin_m = a.vector3_in("origin", -50.0, 50.0);
       // At least three cells of the coarsest site (10 cm) each way.
       in.length_m = a.number_in("length_m", 0.3, 10.0);
       in.width_m = a.number_in("width_m", 0.3, 10.0);
@@ -470,7 +470,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       const std::string link = a.text("link", true);
       if (d.link_index(link) != static_cast<int>(d.links.size()) - 1)
         a.fail("attribute 'link' = \"" + link + "\": the bucket must be the last link of the implement chain");
-      d.bucket_load_centre_m = a.vector3("load_centre");
+      d.bucket_load_centre_m = a.vector3_in("load_centre", -50.0, 50.0);
       d.bucket_volume_m3 = a.number_in("volume_m3", 0.01, 20.0);
       a.reject_unknown();
       read_bucket_interior(d, parameters_path, e);

@@ -25,7 +25,7 @@ namespace {
 
 void read_levers(AttributeReader& a, ScriptLevers& l) {
   if (a.has("drive")) {
-    const Eigen::VectorXd d = a.numbers("drive", 2);
+    const Eigen::VectorXd d = a.numbers_in("drive", 2, -kMaxCoordinate_m, kMaxCoordinate_m);
     l.drive_left = d[0];
     l.drive_right = d[1];
     if (!(std::abs(l.drive_left) <= 1.0 && std::abs(l.drive_right) <= 1.0))
@@ -64,7 +64,7 @@ OperatorScript load_operator_script(const std::string& path) {
       read_levers(a, p.levers);
     } else if (name == "drive_to") {
       p.kind = ScriptPhase::Kind::kDriveTo;
-      const Eigen::VectorXd xy = a.numbers("to", 2);
+      const Eigen::VectorXd xy = a.numbers_in("to", 2, -kMaxCoordinate_m, kMaxCoordinate_m);
       p.target_m = {xy[0], xy[1]};
       if (a.has("tolerance_m")) p.tolerance_m = a.number_in("tolerance_m", 0.05, 10.0);
       if (a.has("speed")) p.speed = a.number_in("speed", 0.05, 1.0);

@@ -48,16 +48,16 @@ SoilTable load_soil_table(const std::string& path) {
     }
 
     AttributeReader f(path, flow);
-    rec.flow.bulk_density_kg_m3 = f.number("bulk_density_kg_m3");
-    rec.flow.repose_angle_deg = f.number("repose_angle_deg");
-    rec.flow.stop_angle_deg = f.number("stop_angle_deg");
-    rec.flow.rolling_speed_m_per_s = f.number("rolling_speed_m_per_s");
-    rec.flow.rolling_layer_m = f.number("rolling_layer_m");
-    rec.flow.min_flow_layer_m = f.number("min_flow_layer_m");
+    rec.flow.bulk_density_kg_m3 = f.number_in("bulk_density_kg_m3", 100.0, 5000.0);
+    rec.flow.repose_angle_deg = f.number_in("repose_angle_deg", 1.0, 89.0);
+    rec.flow.stop_angle_deg = f.number_in("stop_angle_deg", 1.0, 89.0);
+    rec.flow.rolling_speed_m_per_s = f.number_in("rolling_speed_m_per_s", 1e-4, 100.0);
+    rec.flow.rolling_layer_m = f.number_in("rolling_layer_m", 1e-5, 10.0);
+    rec.flow.min_flow_layer_m = f.number_in("min_flow_layer_m", 0.0, 10.0);
     // Li & Moshell's slippage model (a site that selects it): the strength of
     // the soil as it lies; the automaton ignores both.
-    rec.flow.slip_cohesion_Pa = 1000.0 * f.number_or("slip_cohesion_kPa", 0.0);
-    rec.flow.slip_friction_angle_deg = f.number_or("slip_friction_angle_deg", 0.0);
+    rec.flow.slip_cohesion_Pa = 1000.0 * f.number_in_or("slip_cohesion_kPa", 0.0, 1e4, 0.0);
+    rec.flow.slip_friction_angle_deg = f.number_in_or("slip_friction_angle_deg", 0.0, 89.0, 0.0);
     f.reject_unknown();
     try {
       terrain::validate(rec.flow);
@@ -67,20 +67,20 @@ SoilTable load_soil_table(const std::string& path) {
 
     AttributeReader t(path, tm);
     auto& m = rec.terramechanics;
-    m.n = t.number("n");
-    m.k_c_kN_per_m_n1 = t.number("k_c");
-    m.k_phi_kN_per_m_n2 = t.number("k_phi");
-    m.cohesion_kPa = t.number("cohesion_kPa");
-    m.friction_angle_deg = t.number("friction_angle_deg");
-    m.shear_modulus_K_m = t.number("K_m");
+    m.n = t.number_in("n", 0.0, 3.0);
+    m.k_c_kN_per_m_n1 = t.number_in("k_c", 0.0, 1e7);
+    m.k_phi_kN_per_m_n2 = t.number_in("k_phi", 0.0, 1e8);
+    m.cohesion_kPa = t.number_in("cohesion_kPa", 0.0, 1e4);
+    m.friction_angle_deg = t.number_in("friction_angle_deg", 0.0, 60.0);
+    m.shear_modulus_K_m = t.number_in("K_m", 1e-6, 10.0);
     // The reload line, damping, soil-tool contact and load model have
     // defaults (terrain/soil_mechanics.h) a soil may override.
-    m.unload_k0_kPa_per_m = t.number_or("unload_k0_kPa_per_m", m.unload_k0_kPa_per_m);
-    m.unload_Au_kPa_per_m2 = t.number_or("unload_Au_kPa_per_m2", m.unload_Au_kPa_per_m2);
-    m.damping_kPa_s_per_m = t.number_or("damping_kPa_s_per_m", m.damping_kPa_s_per_m);
-    m.tool_adhesion_kPa = t.number_or("tool_adhesion_kPa", m.tool_adhesion_kPa);
-    m.tool_friction_angle_deg = t.number_or("tool_friction_angle_deg", m.tool_friction_angle_deg);
-    m.base_stiffness_kPa_per_m = t.number_or("base_stiffness_kPa_per_m", m.base_stiffness_kPa_per_m);
+    m.unload_k0_kPa_per_m = t.number_in_or("unload_k0_kPa_per_m", 0.0, 1e9, m.unload_k0_kPa_per_m);
+    m.unload_Au_kPa_per_m2 = t.number_in_or("unload_Au_kPa_per_m2", 0.0, 1e10, m.unload_Au_kPa_per_m2);
+    m.damping_kPa_s_per_m = t.number_in_or("damping_kPa_s_per_m", 0.0, 1e7, m.damping_kPa_s_per_m);
+    m.tool_adhesion_kPa = t.number_in_or("tool_adhesion_kPa", 0.0, 1e4, m.tool_adhesion_kPa);
+    m.tool_friction_angle_deg = t.number_in_or("tool_friction_angle_deg", 0.0, 60.0, m.tool_friction_angle_deg);
+    m.base_stiffness_kPa_per_m = t.number_in_or("base_stiffness_kPa_per_m", 0.0, 1e10, m.base_stiffness_kPa_per_m);
     const std::string model = t.text("model", false);
     if (model == "incompressible") m.model = terrain::VerticalLoadModel::kIncompressible;
     else if (model.empty() || model == "bekker") m.model = terrain::VerticalLoadModel::kBekker;

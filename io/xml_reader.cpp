@@ -1,5 +1,8 @@
 #include "io/xml_reader.h"
 
+#include "io/input_file.h"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -15,7 +18,22 @@ void fail_at(const std::string& path, const tinyxml2::XMLElement* e, const std::
 }
 
 void load_xml(tinyxml2::XMLDocument& doc, const std::string& path) {
-  if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
+  const std::string text = read_input_file(path, kMaxXmlBytes, "XML file");
+  // XML is UTF-8 here (the encoding declared or not): names and messages go
+  // on into JSON reports and LCM strings, which must be valid text.
+  const Utf8Error bad = find_invalid_utf8(text);
+  if (bad.offset >= 0) {
+    std::ostringstream msg;
+    msg << path << ":" << bad.line << ": invalid UTF-8 at byte " << bad.offset << " (0x" << std::hex
+        << static_cast<int>(static_cast<unsigned char>(text[static_cast<std::size_t>(bad.offset)])) << ")";
+    throw InputError(msg.str());
+  }
+  if (text.find('\0') != std::string::npos) {
+    const std::size_t at = text.find('\0');
+    throw InputError(path + ":" + std::to_string(1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) +
+                     ": a NUL byte at byte " + std::to_string(at) + " (not an XML text file)");
+  }
+  if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
     std::ostringstream msg;
     msg << path << ":" << doc.ErrorLineNum() << ": " << doc.ErrorStr();
     throw InputError(msg.str());
@@ -48,22 +66,26 @@ double AttributeReader::number(const char* name) {
   return v;
 }
 
-double AttributeReader::number_or(const char* name, double fallback) {
-  known_.insert(name);
-  return e_->Attribute(name) ? number(name) : fallback;
-}
-
-double AttributeReader::number_in(const char* name, double lo, double hi) {
-  const double v = number(name);
+void AttributeReader::check_range(const char* name, double v, double lo, double hi) const {
   if (!(v >= lo && v <= hi)) {
     std::ostringstream msg;
     msg << "attribute '" << name << "' = " << v << ": out of range [" << lo << ", " << hi << "]";
     fail(msg.str());
   }
+}
+
+double AttributeReader::number_in_or(const char* name, double lo, double hi, double fallback) {
+  known_.insert(name);
+  return e_->Attribute(name) ? number_in(name, lo, hi) : fallback;
+}
+
+double AttributeReader::number_in(const char* name, double lo, double hi) {
+  const double v = number(name);
+  check_range(name, v, lo, hi);
   return v;
 }
 
-Eigen::Vector3d AttributeReader::vector3(const char* name) {
+Eigen::Vector3d AttributeReader::vector3_in(const char* name, double lo, double hi) {
   known_.insert(name);
   const char* text = e_->Attribute(name);
   if (!text) fail(std::string("missing attribute '") + name + "'");
@@ -72,10 +94,11 @@ Eigen::Vector3d AttributeReader::vector3(const char* name) {
   for (int k = 0; k < 3; ++k)
     if (!parse_number(p, v[k])) fail(std::string("attribute '") + name + "' = \"" + text + "\": expected three numbers");
   if (!at_end(p)) fail(std::string("attribute '") + name + "' = \"" + text + "\": expected three numbers");
+  for (int k = 0; k < 3; ++k) check_range(name, v[k], lo, hi);
   return v;
 }
 
-Eigen::VectorXd AttributeReader::numbers(const char* name, int count) {
+Eigen::VectorXd AttributeReader::numbers_in(const char* name, int count, double lo, double hi) {
   known_.insert(name);
   const char* text = e_->Attribute(name);
   if (!text) fail(std::string("missing attribute '") + name + "'");
@@ -86,6 +109,7 @@ Eigen::VectorXd AttributeReader::numbers(const char* name, int count) {
       fail(std::string("attribute '") + name + "' = \"" + text + "\": expected " + std::to_string(count) + " numbers");
   if (!at_end(p))
     fail(std::string("attribute '") + name + "' = \"" + text + "\": expected " + std::to_string(count) + " numbers");
+  for (int k = 0; k < count; ++k) check_range(name, v[k], lo, hi);
   return v;
 }
 

@@ -15,23 +15,29 @@ namespace skidsim::io {
 
 [[noreturn]] void fail_at(const std::string& path, const tinyxml2::XMLElement* e, const std::string& what);
 
-// Loads `path` or throws InputError with tinyxml2's line and message.
+// Loads `path` or throws InputError with the line and the reason: not a
+// regular file, too large (io/input_file.h), not UTF-8, or tinyxml2's message.
 void load_xml(tinyxml2::XMLDocument& doc, const std::string& path);
+
+// The one bound for positions and extents read from any file (metres): far
+// past any site (2 km) and the roads beyond it, near enough that every
+// product of two stays far from overflow.
+constexpr double kMaxCoordinate_m = 1.0e5;
 
 // Reads the attributes of one element and checks that every attribute it
 // has is one the caller asked for (a typo must not pass silently).
 class AttributeReader {
  public:
   AttributeReader(std::string path, const tinyxml2::XMLElement* e) : path_(std::move(path)), e_(e) {}
-  // A required finite number; the whole value must parse ("33deg" fails).
-  double number(const char* name);
-  double number_or(const char* name, double fallback);
-  // A required number in [lo, hi].
+  // Every number has a physical range, checked where it enters: a finite
+  // value that parses whole ("33deg" fails) in [lo, hi].
   double number_in(const char* name, double lo, double hi);
-  // "x y z", three finite numbers separated by spaces.
-  Eigen::Vector3d vector3(const char* name);
-  // Exactly `count` finite numbers separated by spaces ("x y", "x0 y0 x1 y1").
-  Eigen::VectorXd numbers(const char* name, int count);
+  // The same, or `fallback` when the attribute is absent.
+  double number_in_or(const char* name, double lo, double hi, double fallback);
+  // "x y z", three numbers each in [lo, hi], separated by spaces.
+  Eigen::Vector3d vector3_in(const char* name, double lo, double hi);
+  // Exactly `count` numbers each in [lo, hi] ("x y", "x0 y0 x1 y1").
+  Eigen::VectorXd numbers_in(const char* name, int count, double lo, double hi);
   bool has(const char* name) const { return e_->Attribute(name) != nullptr; }
   bool boolean_or(const char* name, bool fallback);
   std::string text(const char* name, bool required);
@@ -39,6 +45,8 @@ class AttributeReader {
   [[noreturn]] void fail(const std::string& what) const { fail_at(path_, e_, what); }
 
  private:
+  double number(const char* name);  // finite, unbounded: callers give a range
+  void check_range(const char* name, double v, double lo, double hi) const;
   std::string path_;
   const tinyxml2::XMLElement* e_;
   std::set<std::string> known_;
