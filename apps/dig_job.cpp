@@ -246,7 +246,7 @@ int run_dig_job(const DigJob& job) {
   const std::int64_t total = ex.total_quanta();
   bool conserved = true;
 
-  StagedRunDirectory run_dir(job.out_dir);
+  StagedRunDirectory run_dir(job.out_dir, "dig");
   std::ostringstream phases_csv;
   phases_csv << "phase,start_s,end_s,bucket_kg,truck_kg,chassis_x_m,chassis_y_m,heading_deg\n";
   Operator op;

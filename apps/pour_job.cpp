@@ -100,7 +100,7 @@ int run_pour_job(const PourJob& job) {
 
   // Everything is written into a fresh sibling folder, which replaces the run
   // directory only once complete.
-  StagedRunDirectory run_dir(job.out_dir);
+  StagedRunDirectory run_dir(job.out_dir, "pour");
   const fs::path staging = run_dir.staging();
   const double total_s = job.pour_duration_s + job.max_settle_s;
   Progress progress("pour", total_s);

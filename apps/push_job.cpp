@@ -85,7 +85,7 @@ int run_push_job(const PushJob& job) {
   const terrain::WedgeSolution flat =
       terrain::flat_ground_wedge(phi, soil.flow.bulk_density_kg_m3, job.depth_m, job.width_m);
 
-  StagedRunDirectory run_dir(job.out_dir);
+  StagedRunDirectory run_dir(job.out_dir, "push");
   std::ostringstream csv;
   csv << "distance_m,resistance_N,wedge_weight_N,wedge_depth_m,displaced_m3,vertical_force_N\n";
   csv << std::setprecision(9);

@@ -1,32 +1,16 @@
-// Run directories: written into a staging folder beside the target, which
-// replaces the target only once complete, so a failed run leaves the
-// previous results (or nothing), never a mixture.
+// Run directories (io/run_directory.h) and what the jobs put in them.
 #pragma once
 
 #include <filesystem>
 #include <string>
 
 #include "io/heightmap.h"
+#include "io/run_directory.h"
 #include "terrain/granular_grid.h"
 
 namespace skidsim::apps {
 
-class StagedRunDirectory {
- public:
-  explicit StagedRunDirectory(const std::string& out_dir);
-  ~StagedRunDirectory();  // removes the staging folder unless committed
-  StagedRunDirectory(const StagedRunDirectory&) = delete;
-  StagedRunDirectory& operator=(const StagedRunDirectory&) = delete;
-
-  // Where the files go until commit().
-  const std::filesystem::path& staging() const { return staging_; }
-  // Replaces the target directory with the staging folder.
-  void commit();
-
- private:
-  std::filesystem::path out_dir_, staging_;
-  bool committed_ = false;
-};
+using io::StagedRunDirectory;
 
 // The grid's surface ("surface") or loose material depth ("material") as a
 // height map.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <iterator>
+#include <signal.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -31,10 +33,34 @@
 namespace skidsim::apps {
 namespace {
 
-// Ctrl-C or SIGTERM ends a session at the next control tick, with its report
-// and log written (end_reason "interrupted"), instead of losing it.
+// Ctrl-C, SIGTERM, SIGHUP (the terminal closed) and SIGQUIT end a session at
+// the next control tick, with its report and log written (end_reason
+// "interrupted"), instead of losing it. The handlers stay until the run
+// directory is in place, so a signal while the report is written does not
+// lose it either.
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
+
+constexpr int kEndingSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+
+class InterruptHandlers {
+ public:
+  InterruptHandlers() {
+    g_interrupted = 0;
+    struct sigaction action {};
+    action.sa_handler = on_interrupt;
+    sigemptyset(&action.sa_mask);
+    for (std::size_t k = 0; k < std::size(kEndingSignals); ++k) sigaction(kEndingSignals[k], &action, &previous_[k]);
+  }
+  ~InterruptHandlers() {
+    for (std::size_t k = 0; k < std::size(kEndingSignals); ++k) sigaction(kEndingSignals[k], &previous_[k], nullptr);
+  }
+  InterruptHandlers(const InterruptHandlers&) = delete;
+  InterruptHandlers& operator=(const InterruptHandlers&) = delete;
+
+ private:
+  struct sigaction previous_[std::size(kEndingSignals)] {};
+};
 
 using nlohmann::json;
 
@@ -162,7 +188,7 @@ int run_session(const RunJob& job) {
                          "reproducible (--mode fast), or play it as one: skidsim operator SCRIPT");
   if (mode == "fast" && !player && !replaying)
     throw io::InputError("--mode fast needs a script (--script, or <operator source=\"script\">) or --replay");
-  if (!(job.max_s >= 0.0 && job.max_s <= 86400.0)) throw io::InputError("--max-s: expected 0 to 86400 s");
+  if (!(job.max_s == 0.0 || (job.max_s >= 0.001 && job.max_s <= 86400.0))) throw io::InputError("--max-s: expected 0.001 to 86400 s");
   // LCM: the operator's commands when there is no script; state and events
   // out whenever a provider is named (or the operator is on LCM).
   io::ControlInput input(ex.operator_source.watchdog_s);
@@ -177,7 +203,7 @@ int run_session(const RunJob& job) {
   auto world = build_session_world(ex, loader, soils);
   check_tasks(ex, *world);
   SessionTasks tasks(ex, *world);
-  StagedRunDirectory run_dir(job.out_dir);
+  StagedRunDirectory run_dir(job.out_dir, "run");
   const std::string log_path = (run_dir.staging() / "session.lcmlog").string();
   auto log_file = std::make_unique<lcm::LogFile>(log_path, "w");
   if (!log_file->good()) throw io::InputError("cannot write the LCM log " + log_path);
@@ -247,9 +273,7 @@ int run_session(const RunJob& job) {
   std::int64_t watchdog_trips_seen = 0;
   std::string end_reason = "time_limit";
   const auto wall_start = std::chrono::steady_clock::now();
-  g_interrupted = 0;
-  const auto previous_int = std::signal(SIGINT, on_interrupt);
-  const auto previous_term = std::signal(SIGTERM, on_interrupt);
+  const InterruptHandlers interrupt_handlers;
   // The report's plots over time (columnar, reserved: no reallocation in the loop).
   const char* const kSeries[] = {"t_s", "chassis_x_m", "chassis_y_m", "speed_m_s", "bucket_payload_kg",
                                  "material_moved_kg", "task_progress", "score", "engine_speed_rpm",
@@ -288,6 +312,7 @@ int run_session(const RunJob& job) {
         // command stamped for it; the simulator waits for it (up to the
         // watchdog; the first one, while the operator starts, up to 5 s,
         // the state sent again every 100 ms).
+        input.await_step(step);
         bridge->publish_state(state);
         const bool first = step == 0;
         const auto start = std::chrono::steady_clock::now();
@@ -295,14 +320,14 @@ int run_session(const RunJob& job) {
             start + (first ? std::chrono::milliseconds(5000)
                            : std::chrono::milliseconds(static_cast<int>(1000.0 * ex.operator_source.watchdog_s)));
         auto resend = start + std::chrono::milliseconds(100);
-        while (input.last_sim_step() < step && std::chrono::steady_clock::now() < deadline) {
+        while (input.last_sim_step() != step && std::chrono::steady_clock::now() < deadline) {
           bridge->wait(5, t);
           if (first && std::chrono::steady_clock::now() > resend) {
             bridge->publish_state(state);
             resend += std::chrono::milliseconds(100);
           }
         }
-        if (input.last_sim_step() < step) {
+        if (input.last_sim_step() != step) {
           ++missed_ticks;
           ++missed_in_a_row;
         } else {
@@ -389,8 +414,6 @@ int run_session(const RunJob& job) {
     }
     progress.update(world->time_s(), tasks.tasks().empty() ? "" : tasks.tasks().front().detail);
   }
-  std::signal(SIGINT, previous_int);
-  std::signal(SIGTERM, previous_term);
   progress.finish();
   if (tiles) send_tiles(world->steps(), world->time_s());
   json recording = nullptr;
@@ -462,7 +485,7 @@ int run_session(const RunJob& job) {
       {"timeline", timeline_json},
       {"recording", recording},
       {"controls", {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},
-                    {"rejected_stale", cs.rejected_stale}, {"malformed", cs.malformed},
+                    {"rejected_stale", cs.rejected_stale}, {"rejected_tick", cs.rejected_tick}, {"malformed", cs.malformed},
                     {"watchdog_trips", cs.watchdog_trips}}},
       {"final_state_hash", hash},
       {"end_reason", end_reason},

@@ -18,7 +18,7 @@ struct RunJob {
   std::string lcm_url;      // empty: the exercise's, else the default provider
   std::string mode;         // fast, realtime, lockstep; empty: fast with a script, realtime over LCM
   std::string replay_path;  // a session's session.lcmlog: its applied controls, tick by tick (mode fast)
-  double max_s = 0.0;       // 0: the exercise's time limit
+  double max_s = 0.0;       // 0: not given (the exercise's time limit); --max-s takes 0.001 to 86400 s
   // Frames (the exercise's <record>: rate, camera, size) rendered on a second
   // thread into RUN/frames; a video too when ffmpeg is on the PATH.
   bool record = false;

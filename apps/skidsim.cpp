@@ -221,7 +221,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--script", run.script_path, "Operator script (default: the exercise's operator)");
   run_cmd->add_option("--lcm", run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
   run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
-  run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time (default: the exercise's limit)");
+  // 0 is refused rather than read as "no limit": a session always ends.
+  run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time, 0.001 to 86400 s (default: the exercise's limit)")
+      ->check(CLI::Range(0.001, 86400.0));
   run_cmd->add_flag("--record", run.record,
                     "Render frames (the exercise's <record>: rate, camera, size) into RUN/frames on a second thread;\n"
                     "a video too (session.mp4) when ffmpeg is on the PATH");

@@ -18,6 +18,10 @@ bool ControlInput::offer(const skidsim_lcm::control_t& m, double sim_time_s) {
       ++stats_.rejected_nan;
       return false;
     }
+  if (awaited_step_ >= 0 && m.sim_step != awaited_step_) {
+    ++stats_.rejected_tick;
+    return false;
+  }
   if (have_command_ && m.sender_id == last_sender_ && m.seq <= last_seq_) {
     ++stats_.rejected_stale;
     return false;

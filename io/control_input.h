@@ -17,6 +17,7 @@ struct ControlStats {
   std::int64_t clamped = 0;         // accepted with a value brought into its range
   std::int64_t rejected_nan = 0;    // a value not finite
   std::int64_t rejected_stale = 0;  // a sequence number not above the last accepted one
+  std::int64_t rejected_tick = 0;   // lockstep: stamped for another tick than the one awaited
   std::int64_t malformed = 0;       // bytes that did not decode (counted by the bridge)
   std::int64_t watchdog_trips = 0;  // times the watchdog returned the levers to neutral
 };
@@ -33,6 +34,11 @@ class ControlInput {
   // own sequence.
   bool offer(const skidsim_lcm::control_t& command, double sim_time_s);
   void count_malformed() { ++stats_.malformed; }
+  // Lockstep: from now on only a command stamped for `sim_step` is accepted
+  // (one stamped for a past or a future tick is rejected and counted), so a
+  // stray or far-future stamp can never stand in for the operator's answer.
+  // -1 (the default, real time): any tick.
+  void await_step(std::int64_t sim_step) { awaited_step_ = sim_step; }
 
   // The controls to apply at `sim_time_s`: the newest valid command, or
   // neutral (levers 0, throttle kept, parking brake on) once none came for
@@ -52,6 +58,7 @@ class ControlInput {
   std::int64_t last_seq_ = 0;
   std::int64_t last_sender_ = 0;
   std::int64_t last_sim_step_ = -1;
+  std::int64_t awaited_step_ = -1;
   ControlStats stats_;
 };
 

@@ -112,6 +112,7 @@ struct Reader {
         p.radius_m = b.number_in("radius_m", 0.05, 100.0);
         p.height_m = b.number_in("height_m", 0.01, 20.0);
         b.reject_unknown();
+        b.reject_content();
         if (!s.region.contains(p.centre_m)) b.fail("the pile's centre is outside its soil region");
         s.piles.push_back(p);
       } else if (name == "trench") {
@@ -121,6 +122,7 @@ struct Reader {
         t.width_m = b.number_in("width_m", 0.05, 100.0);
         t.depth_m = b.number_in("depth_m", 0.01, 10.0);
         b.reject_unknown();
+        b.reject_content();
         if (!s.region.contains(t.from_m) || !s.region.contains(t.to_m)) b.fail("the trench runs outside its soil region");
         if (t.depth_m > s.depth_m) b.fail("the trench is deeper than the soil layer (depth_m of <soil>)");
         s.trenches.push_back(t);
@@ -129,6 +131,7 @@ struct Reader {
         k.region = read_region(b, "region");
         k.height_m = b.number_in("height_m", 0.01, 20.0);
         b.reject_unknown();
+        b.reject_content();
         if (!s.region.contains(k.region)) b.fail("the bank is outside its soil region");
         s.banks.push_back(k);
       } else if (name == "slope") {
@@ -141,6 +144,7 @@ struct Reader {
         k.rising_axis = rising[1] == 'x' ? 0 : 1;
         k.rising_up = rising[0] == '+';
         b.reject_unknown();
+        b.reject_content();
         if (!s.region.contains(k.region)) b.fail("the slope is outside its soil region");
         s.slopes.push_back(k);
       } else {
@@ -177,6 +181,7 @@ struct Reader {
         unique_id(b, z.id);
         z.region = read_region(b, "region");
         b.reject_unknown();
+        b.reject_content();
         on_site(b, z.region, "the zone");
         ex.zones.push_back(z);
       } else if (name == "box") {
@@ -187,6 +192,7 @@ struct Reader {
         o.size_m = b.vector3_in("size", -kMaxCoordinate_m, kMaxCoordinate_m);
         o.yaw_deg = b.number_in_or("yaw_deg", -360.0, 360.0, 0.0);
         b.reject_unknown();
+        b.reject_content();
         if (!(o.size_m.minCoeff() > 0.0 && o.size_m.maxCoeff() <= 100.0)) b.fail("attribute 'size': each side in (0, 100] m");
         on_site(b, footprint(o.centre_m.head<2>() - rotate(0.5 * o.size_m.head<2>(), o.yaw_deg), o.size_m.x(),
                              o.size_m.y(), o.yaw_deg),
@@ -203,6 +209,7 @@ struct Reader {
         t.floor_height_m = b.number_in("floor_height_m", 0.0, 5.0);
         t.wall_height_m = b.number_in("wall_height_m", 0.05, 3.0);
         b.reject_unknown();
+        b.reject_content();
         on_site(b, footprint(t.back_corner_m, t.length_m, t.width_m, t.yaw_deg), "the truck bed");
         ex.trucks.push_back(t);
       } else if (name == "agent") {
@@ -254,6 +261,7 @@ struct Reader {
       g.keep_clear_m = b.has("keep_clear_m") ? b.number_in("keep_clear_m", 0.0, 50.0) : 6.0;
     }
     b.reject_unknown();
+    b.reject_content();
     ex.agents.push_back(g);
   }
 
@@ -306,6 +314,7 @@ struct Reader {
         if (std::string(g->Name()) != "gate") b.fail("unknown element (expected <gate>)");
         const Region r = read_region(b, "region");
         b.reject_unknown();
+        b.reject_content();
         on_site(b, r, "the gate");
         t.gates.push_back(r);
       }
@@ -363,6 +372,7 @@ struct Reader {
       a.fail("attribute 'when' = \"" + when + "\": expected time, enter_zone or task_done");
     }
     a.reject_unknown();
+    a.reject_content();
     ex.events.push_back(v);
   }
 };
@@ -426,6 +436,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
       m.lift_rad = a.has("lift_rad") ? a.number_in("lift_rad", 0.0, 1.7) : m.lift_rad;
       m.tilt_rad = a.has("tilt_rad") ? a.number_in("tilt_rad", -0.6, 2.4) : m.tilt_rad;
       a.reject_unknown();
+      a.reject_content();
       r.on_site(a, m.position_m, "the machine's start");
       r.check_start(a);
     } else if (name == "operator") {
@@ -445,6 +456,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         a.fail("attribute 'source' = \"" + source + "\": expected lcm or script");
       }
       a.reject_unknown();
+      a.reject_content();
     } else if (name == "task") {
       if (!have_site) a.fail("must come after <site>");
       r.read_task(e);
@@ -462,6 +474,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         metric.name = b.text("name", true);
         metric.weight = b.number_in("weight", -1e6, 1e6);
         b.reject_unknown();
+        b.reject_content();
         const auto& known = known_metrics();
         if (std::find(known.begin(), known.end(), metric.name) == known.end()) {
           std::string list;
@@ -488,6 +501,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         if ((rec.fixed_eye_m - rec.fixed_target_m).norm() < 0.1) a.fail("fixed_eye and fixed_target are the same point");
       }
       a.reject_unknown();
+      a.reject_content();
     } else {
       a.fail("unknown element (expected <site>, <machine>, <operator>, <task>, <event>, <scoring> or <record>)");
     }

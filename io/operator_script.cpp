@@ -97,6 +97,7 @@ OperatorScript load_operator_script(const std::string& path) {
           "<raise>, <dump>, <reverse> or <wait>)");
     }
     a.reject_unknown();
+    a.reject_content();
     script.phases.push_back(p);
   }
   if (script.phases.empty()) fail_at(path, root, "a script needs at least one phase");

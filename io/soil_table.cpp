@@ -59,6 +59,7 @@ SoilTable load_soil_table(const std::string& path) {
     rec.flow.slip_cohesion_Pa = 1000.0 * f.number_in_or("slip_cohesion_kPa", 0.0, 1e4, 0.0);
     rec.flow.slip_friction_angle_deg = f.number_in_or("slip_friction_angle_deg", 0.0, 89.0, 0.0);
     f.reject_unknown();
+    f.reject_content();
     try {
       terrain::validate(rec.flow);
     } catch (const std::invalid_argument& e) {
@@ -86,6 +87,7 @@ SoilTable load_soil_table(const std::string& path) {
     else if (model.empty() || model == "bekker") m.model = terrain::VerticalLoadModel::kBekker;
     else fail(path, tm, "attribute 'model' = \"" + model + "\": expected \"bekker\" or \"incompressible\"");
     t.reject_unknown();
+    t.reject_content();
     try {
       terrain::validate(m);
     } catch (const std::invalid_argument& e) {

@@ -130,6 +130,18 @@ std::string AttributeReader::text(const char* name, bool required) {
   return t ? t : "";
 }
 
+void AttributeReader::reject_content() const {
+  for (const tinyxml2::XMLNode* n = e_->FirstChild(); n; n = n->NextSibling()) {
+    if (const tinyxml2::XMLElement* c = n->ToElement())
+      fail_at(path_, c, std::string("unexpected element inside <") + e_->Name() + "> (it takes no child elements)");
+    if (const tinyxml2::XMLText* t = n->ToText()) {
+      const std::string text = t->Value() ? t->Value() : "";
+      if (text.find_first_not_of(" \t\r\n") != std::string::npos)
+        fail(std::string("unexpected text \"") + text.substr(0, 40) + "\" (this element takes attributes only)");
+    }
+  }
+}
+
 void AttributeReader::reject_unknown() const {
   for (const tinyxml2::XMLAttribute* a = e_->FirstAttribute(); a; a = a->Next())
     if (!known_.count(a->Name())) fail(std::string("unknown attribute '") + a->Name() + "'");

@@ -42,6 +42,9 @@ class AttributeReader {
   bool boolean_or(const char* name, bool fallback);
   std::string text(const char* name, bool required);
   void reject_unknown() const;
+  // An element whose content means nothing (a leaf) must have none: a phase
+  // nested in a phase, or text, would otherwise be silently ignored.
+  void reject_content() const;
   [[noreturn]] void fail(const std::string& what) const { fail_at(path_, e_, what); }
 
  private:

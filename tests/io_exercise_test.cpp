@@ -12,6 +12,7 @@
 #include "io/atomic_file.h"
 #include "io/exercise.h"
 #include "io/loader_files.h"
+#include "io/operator_script.h"
 
 namespace skidsim::io {
 namespace {
@@ -119,7 +120,63 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"  </site>",
                 "    <truck id=\"b\" back_corner=\"15 2\" length_m=\"2\" width_m=\"1.5\" floor_height_m=\"0.9\" wall_height_m=\"0.3\"/>\n"
                 "    <agent id=\"t\" kind=\"truck\" bed=\"b\" route=\"30 1\" leave_at_kg=\"100\"/>\n  </site>",
-                {"<agent>", "leave_at_kg", "exit"}}));
+                {"<agent>", "leave_at_kg", "exit"}},
+        // Every number has a range where it enters, not only a finite value.
+        BadCase{"position=\"3 10\" yaw_deg=\"0\"", "position=\"3 10\" yaw_deg=\"1e308\"", {"<machine>", "yaw_deg", "out of range"}},
+        BadCase{"position=\"3 10\"", "position=\"1e300 10\"", {"<machine>", "position", "out of range"}},
+        BadCase{"region=\"12 8.5 14.5 11.5\"", "region=\"-1e308 8.5 14.5 11.5\"", {"<zone>", "region", "out of range"}},
+        BadCase{"  </site>", "    <agent id=\"w\" kind=\"person\" route=\"1 1; 1e300 2\"/>\n  </site>", {"<agent>", "route", "is not a point"}},
+        BadCase{"pass_score=\"25\"", "pass_score=\"1e300\"", {"<scoring>", "pass_score", "out of range"}},
+        // Content where none belongs is refused, not ignored.
+        BadCase{"<zone id=\"target\" region=\"12 8.5 14.5 11.5\"/>",
+                "<zone id=\"target\" region=\"12 8.5 14.5 11.5\"><zone id=\"inner\" region=\"1 1 2 2\"/></zone>",
+                {"<zone>", "unexpected element inside <zone>"}},
+        BadCase{"<zone id=\"target\" region=\"12 8.5 14.5 11.5\"/>",
+                "<zone id=\"target\" region=\"12 8.5 14.5 11.5\">twelve</zone>", {"<zone>", "unexpected text"}},
+        // Not UTF-8, or not text at all.
+        BadCase{"name=\"pile-to-zone\"", "name=\"pile-\xff-zone\"", {"invalid UTF-8 at byte"}},
+        BadCase{"name=\"pile-to-zone\"", "name=\"pile-\xc0\xaf-zone\"", {"invalid UTF-8"}},
+        BadCase{"name=\"pile-to-zone\"", std::string("name=\"pile-\0-zone\"", 18), {"NUL byte"}}));
+
+// What is not a regular file is named as such, never read (a device would
+// never end) nor called missing.
+TEST(ExerciseFile, NotARegularFileIsNamedAsSuch) {
+  const fs::path dir = fs::temp_directory_path() / ("skidsim_notfile_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "folder.xml");
+  const auto message = [](const std::string& path) {
+    try {
+      load_exercise(path);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message((dir / "folder.xml").string()).find("is a directory"), std::string::npos);
+  EXPECT_NE(message("/dev/zero").find("not a regular file"), std::string::npos);
+  EXPECT_NE(message((dir / "absent.xml").string()).find("no such file"), std::string::npos);
+  std::ofstream(dir / "empty.xml").flush();
+  const std::string empty = message((dir / "empty.xml").string());
+  EXPECT_NE(empty.find((dir / "empty.xml").string()), std::string::npos) << empty;
+  fs::remove_all(dir);
+}
+
+// A phase nested in a phase was ignored: the operator would skip it.
+TEST(OperatorScriptFile, APhaseInsideAPhaseIsRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("skidsim_script_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "nested.operator.xml";
+  std::ofstream(file) << "<operator_script name=\"n\">\n  <hold duration_s=\"1\">\n    <wait duration_s=\"5\"/>\n"
+                         "  </hold>\n</operator_script>\n";
+  try {
+    load_operator_script(file.string());
+    ADD_FAILURE() << "a nested phase was accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(file.string() + ":3: <wait>"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("inside <hold>"), std::string::npos) << msg;
+  }
+  fs::remove_all(dir);
+}
 
 }  // namespace
 }  // namespace skidsim::io

@@ -61,6 +61,29 @@ TEST(ControlInput, RestartedOperatorIsANewSenderNotStale) {
   EXPECT_EQ(in.stats().rejected_stale, 0);
 }
 
+// Lockstep: only the awaited tick's answer counts. A command stamped for a
+// far-future tick must not stand in for every tick after it (the session
+// would run on with nobody at the controls), nor one for a past tick.
+TEST(ControlInput, LockstepAcceptsOnlyTheAwaitedTick) {
+  ControlInput in(0.2);
+  in.await_step(10);
+  skidsim_lcm::control_t future = command(1, 0.9);
+  future.sim_step = 1000000000;
+  EXPECT_FALSE(in.offer(future, 0.02));
+  skidsim_lcm::control_t past = command(2, 0.9);
+  past.sim_step = 5;
+  EXPECT_FALSE(in.offer(past, 0.02));
+  EXPECT_EQ(in.last_sim_step(), -1);
+  EXPECT_EQ(in.stats().rejected_tick, 2);
+  skidsim_lcm::control_t now = command(3, 0.4);
+  now.sim_step = 10;
+  EXPECT_TRUE(in.offer(now, 0.02));
+  EXPECT_EQ(in.last_sim_step(), 10);
+  EXPECT_EQ(in.controls(0.02).drive_left, 0.4);
+  in.await_step(15);
+  EXPECT_FALSE(in.offer(now, 0.03)) << "the same tick again is not the next one";
+}
+
 TEST(ControlInput, WatchdogReturnsToNeutralWhenCommandsStop) {
   ControlInput in(0.2);
   EXPECT_TRUE(in.neutral());
