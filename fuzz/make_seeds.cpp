@@ -1,7 +1,10 @@
-// Writes the binary seeds of the LCM harnesses (scripts/fuzz.sh): encoded
-// control_t messages into argv[1], a small session log (controls on
-// SKIDSIM_CONTROL_APPLIED, a state message between) into argv[2].
+// Writes the binary seeds (scripts/fuzz.sh): encoded control_t messages into
+// argv[1], a small session log (controls on SKIDSIM_CONTROL_APPLIED, a state
+// message between) into argv[2], and a height map's JSON and PNG (each behind
+// the heightmap harness's selector byte) into argv[3].
 #include <cstdio>
+#include <unistd.h>
+#include <utility>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -9,6 +12,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "io/heightmap.h"
 #include "skidsim_lcm/control_t.hpp"
 
 namespace {
@@ -37,13 +41,32 @@ std::vector<unsigned char> encoded(const skidsim_lcm::control_t& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: %s CONTROL_SEED_DIR LOG_SEED_DIR\n", argv[0]);
+  if (argc != 4) {
+    std::fprintf(stderr, "usage: %s CONTROL_SEED_DIR LOG_SEED_DIR HEIGHTMAP_SEED_DIR\n", argv[0]);
     return 2;
   }
   namespace fs = std::filesystem;
   fs::create_directories(argv[1]);
   fs::create_directories(argv[2]);
+  fs::create_directories(argv[3]);
+  {
+    skidsim::io::Heightmap map;
+    map.nx = 8;
+    map.ny = 6;
+    map.cell_size_m = 0.05;
+    map.quantity = "material";
+    for (int k = 0; k < map.nx * map.ny; ++k) map.height_m.push_back(0.01 * k);
+    const fs::path folder = fs::temp_directory_path() / ("skidsim_seed_map_" + std::to_string(::getpid()));
+    fs::create_directories(folder);
+    const fs::path stem = folder / "map";  // the harness's PNG is map.png too
+    skidsim::io::write_heightmap(stem.string(), map);
+    for (const auto& [ext, selector] : {std::pair<std::string, char>{".json", 0}, {".png", 1}}) {
+      std::ifstream in(stem.string() + ext, std::ios::binary);
+      const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      std::ofstream(fs::path(argv[3]) / ("map" + ext), std::ios::binary) << selector << bytes;
+    }
+    fs::remove_all(folder);
+  }
   std::vector<unsigned char> stream;
   for (int k = 0; k < 3; ++k) {
     const std::vector<unsigned char> b = encoded(command(k));

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/input_file.h"
 #include "io/loader_files.h"
 #include "io/soil_table.h"
 #include "io/xml_reader.h"
@@ -58,7 +59,11 @@ std::vector<Eigen::Vector2d> read_points(AttributeReader& a, const char* name, s
 std::string resolve_file(AttributeReader& a, const std::string& exercise_path, const char* name) {
   const std::string given = a.text(name, true);
   const fs::path p = fs::path(given).is_absolute() ? fs::path(given) : fs::path(exercise_path).parent_path() / given;
-  if (!fs::is_regular_file(p)) a.fail(std::string("attribute '") + name + "' = \"" + given + "\": no such file " + p.string());
+  try {
+    check_input_file(p.string(), kMaxXmlBytes, "file");
+  } catch (const InputError& e) {  // "no such file", "is a directory", ... named at this attribute
+    a.fail(std::string("attribute '") + name + "' = \"" + given + "\": " + e.what());
+  }
   return p.lexically_normal().string();
 }
 

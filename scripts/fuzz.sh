@@ -10,7 +10,7 @@
 #   scripts/fuzz.sh 300 exercise lcm_log   # these two, 300 s each
 #
 # Harnesses: exercise operator_script soil_table loader_params loader_urdf
-# control lcm_log. The corpus grows in build-fuzz/corpus/HARNESS from run to
+# control lcm_log heightmap. The corpus grows in build-fuzz/corpus/HARNESS from run to
 # run; each run's output is in build-fuzz/logs/HARNESS.log; a finding (crash,
 # sanitizer report, an exception other than io::InputError, an InputError
 # naming no file) is written to build-fuzz/artifacts/HARNESS-crash-* and makes
@@ -23,7 +23,7 @@ if [[ $# -gt 0 && $1 =~ ^[0-9]+$ ]]; then
   SECONDS_EACH=$1
   shift
 fi
-ALL=(exercise operator_script soil_table loader_params loader_urdf control lcm_log)
+ALL=(exercise operator_script soil_table loader_params loader_urdf control lcm_log heightmap)
 if (($#)); then HARNESSES=("$@"); else HARNESSES=("${ALL[@]}"); fi
 
 source scripts/packages.sh
@@ -49,7 +49,7 @@ seeds() {
 }
 rm -rf "$B/seeds" "$B/dict"
 mkdir -p "$B/seeds" "$B/dict" "$B/corpus" "$B/artifacts" "$B/logs"
-"$B/fuzz/fuzz_make_seeds" "$B/seeds/control" "$B/seeds/lcm_log"
+"$B/fuzz/fuzz_make_seeds" "$B/seeds/control" "$B/seeds/lcm_log" "$B/seeds/heightmap"
 for h in exercise operator_script soil_table loader_params loader_urdf; do
   mkdir -p "$B/seeds/$h"
   seeds "$h" | while read -r f; do cp "$f" "$B/seeds/$h/"; done
