@@ -98,7 +98,15 @@ const std::set<std::string>& known_fields() {
 const char* const kRequiredFields[] = {"format", "version", "image", "quantity", "nx", "ny",
                                        "cell_size_m", "origin_m", "z_offset_m", "vertical_scale_m"};
 
-std::string shown(const json& v) { return v.dump(-1, ' ', false, json::error_handler_t::replace); }
+// A value or name for a message: at most 64 characters of it (a field
+// may hold a 60 MB array).
+std::string shown(const std::string& text) {
+  if (text.size() <= 64) return text;
+  std::size_t cut = 61;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0u) == 0x80u) --cut;  // whole UTF-8 characters
+  return text.substr(0, cut) + "...";
+}
+std::string shown(const json& v) { return shown(v.dump(-1, ' ', false, json::error_handler_t::replace)); }
 
 [[noreturn]] void bad_field(const std::string& path, const char* key, const json& v, const std::string& what) {
   throw InputError(path + ": field '" + key + "' = " + shown(v) + ": " + what);
@@ -223,7 +231,7 @@ Heightmap read_heightmap(const std::string& json_path) {
   if (!meta.is_object())
     throw InputError(json_path + ": expected a JSON object of height map fields, found " + meta.type_name());
   for (const auto& item : meta.items())
-    if (!known_fields().count(item.key())) throw InputError(json_path + ": unknown field '" + item.key() + "'");
+    if (!known_fields().count(item.key())) throw InputError(json_path + ": unknown field '" + shown(item.key()) + "'");
   std::string missing;
   for (const char* key : kRequiredFields)
     if (!meta.contains(key)) missing += std::string(missing.empty() ? "" : ", ") + "'" + key + "'";

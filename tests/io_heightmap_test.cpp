@@ -205,6 +205,17 @@ TEST_F(HeightmapFiles, UnknownFieldsAndBadJsonAreNamed) {
   meta["cell_size"] = 0.1;  // a typo must not pass silently
   std::ofstream(path("typo.json")) << meta.dump();
   expect_error_mentions([&] { read_heightmap(path("typo.json")); }, {"typo.json", "unknown field 'cell_size'"});
+  // A field holding a long array is shown in part.
+  meta = good_meta();
+  meta["origin_m"] = std::vector<double>(100000, 1.0);
+  std::ofstream(path("long.json")) << meta.dump();
+  try {
+    read_heightmap(path("long.json"));
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'origin_m' = [1.0,1.0"), std::string::npos) << e.what();
+    EXPECT_LT(std::string(e.what()).size(), 400u) << e.what();
+  }
   // JSON has no NaN: the parser's byte and the line are given.
   std::ofstream(path("nan.json")) << "{\n  \"format\": \"skidsim-heightmap\",\n  \"cell_size_m\": NaN\n}\n";
   expect_error_mentions([&] { read_heightmap(path("nan.json")); }, {"nan.json:3:", "invalid JSON at byte"});
