@@ -11,7 +11,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <cmath>
+#include <type_traits>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 
 namespace skidsim::apps {
 namespace {
@@ -36,8 +38,17 @@ struct Entry {
 };
 
 std::vector<Entry> read_list(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw io::InputError(path + ": cannot open the batch list");
+  // A checked file (io/input_file.h: regular, at most kMaxJsonBytes), valid
+  // UTF-8 without NUL bytes: its words become arguments and go on into
+  // batch.json, which must be valid text.
+  const std::string all = io::read_input_file(path, io::kMaxJsonBytes, "batch list");
+  const io::Utf8Error bad = io::find_invalid_utf8(all);
+  if (bad.offset >= 0)
+    throw io::InputError(path + ":" + std::to_string(bad.line) + ": invalid UTF-8 at byte " + std::to_string(bad.offset));
+  if (const std::size_t nul = all.find('\0'); nul != std::string::npos)
+    throw io::InputError(path + ":" + std::to_string(1 + std::count(all.begin(), all.begin() + static_cast<long>(nul), '\n')) +
+                         ": a NUL byte at byte " + std::to_string(nul) + " (not a text file)");
+  std::istringstream in(all);
   std::vector<Entry> entries;
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {
@@ -64,6 +75,20 @@ std::vector<Entry> read_list(const std::string& path) {
   }
   if (entries.empty()) throw io::InputError(path + ": no sessions in the list");
   return entries;
+}
+
+// A field of a session's report of the type expected, else `fallback`.
+template <typename T>
+T field_or(const json& object, const char* key, const T& fallback) {
+  if (!object.is_object() || !object.contains(key)) return fallback;
+  const json& v = object.at(key);
+  if constexpr (std::is_same_v<T, bool>) return v.is_boolean() ? v.get<bool>() : fallback;
+  else return v.is_string() ? v.get<std::string>() : fallback;
+}
+double finite_or(const json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key) || !object.at(key).is_number()) return 0.0;
+  const double v = object.at(key).get<double>();
+  return std::isfinite(v) ? v : 0.0;
 }
 
 // `skidsim run ARGS --out DIR`, its output into LOG; returns the pid.
@@ -137,20 +162,21 @@ int run_batch(const BatchJob& job) {
     all_ran = all_ran && e.exit_code == 0;
     json s = {{"entry", k + 1}, {"line", e.line}, {"args", e.args}, {"run_dir", e.name}, {"log", e.name + ".log"},
               {"exit_code", e.exit_code}, {"wall_s", e.wall_s}};
-    std::ifstream report(out / e.name / "report.json");
+    // The session's report, if it wrote one: read as a checked file and
+    // taken only where each field has its type and a finite value (a
+    // session that died part-way is summarised as not passed, not trusted).
     json r;
-    if (report) {
-      try {
-        r = json::parse(report);
-      } catch (const json::exception&) {
-        r = json();
-      }
+    try {
+      r = json::parse(io::read_input_file((out / e.name / "report.json").string(), io::kMaxJsonBytes, "report"));
+    } catch (const std::exception&) {
+      r = json();
     }
-    const bool have = r.is_object() && r.contains("result") && r["result"].is_object();
-    s["passed"] = have ? r["result"].value("passed", false) : false;
-    s["score"] = have ? r["result"].value("score", 0.0) : 0.0;
-    s["simulated_s"] = r.is_object() && r.contains("performance") ? r["performance"].value("simulated_s", 0.0) : 0.0;
-    s["final_state_hash"] = r.is_object() ? r.value("final_state_hash", std::string()) : std::string();
+    const json& result = r.is_object() && r.contains("result") ? r["result"] : json();
+    const json& performance = r.is_object() && r.contains("performance") ? r["performance"] : json();
+    s["passed"] = field_or(result, "passed", false);
+    s["score"] = finite_or(result, "score");
+    s["simulated_s"] = finite_or(performance, "simulated_s");
+    s["final_state_hash"] = field_or(r, "final_state_hash", std::string());
     std::printf("%-4d %-28s %4d %-6s %9.2f %9.2f %8.2f\n", k + 1, e.name.c_str(), e.exit_code,
                 s["passed"].get<bool>() ? "yes" : "no", s["score"].get<double>(), s["simulated_s"].get<double>(), e.wall_s);
     sessions.push_back(s);

@@ -30,15 +30,17 @@ int run_pour_job(const PourJob& job) {
   }
   const terrain::SoilFlowParameters& soil = it->second.flow;
 
-  // Between 3 and 16384 cells across (16384^2 cells take 5.6 GB of state).
+  // Between 3 and kMaxSiteCellsPerSide cells across (16384^2 cells take
+  // 5.6 GB of state); height maps are held to the same cap (io/heightmap.h).
+  constexpr double kMaxCells = io::kMaxSiteCellsPerSide;
   const double cells_across = job.site_size_m / job.cell_size_m;
-  if (!(cells_across >= 2.5 && cells_across <= 16384.0) && job.material_map_path.empty() && job.base_map_path.empty()) {
+  if (!(cells_across >= 2.5 && cells_across <= kMaxCells) && job.material_map_path.empty() && job.base_map_path.empty()) {
     throw io::InputError("--site-m " + std::to_string(job.site_size_m) + " and --cell-m " +
                          std::to_string(job.cell_size_m) + " give " + std::to_string(cells_across) +
-                         " cells across the site (expected 3 to 16384)");
+                         " cells across the site (expected 3 to " + std::to_string(io::kMaxSiteCellsPerSide) + ")");
   }
   terrain::GridSpec spec;
-  spec.nx = spec.ny = static_cast<int>(std::lround(std::clamp(cells_across, 1.0, 16384.0)));
+  spec.nx = spec.ny = static_cast<int>(std::lround(std::clamp(cells_across, 1.0, kMaxCells)));
   spec.cell_size_m = job.cell_size_m;
   spec.origin_m = {0.5 * job.cell_size_m, 0.5 * job.cell_size_m};
   spec.edges.fill(job.open_edges ? terrain::EdgeKind::kOpen : terrain::EdgeKind::kClosed);

@@ -65,6 +65,36 @@ void add_job_options(CLI::App* cmd, std::string& out_dir, std::string& soil_id, 
 int check_loader(const std::string& path, bool json) {
   const skidsim::vehicle::LoaderDescription d = skidsim::io::load_loader(path);
   const skidsim::vehicle::LoaderFigures f = skidsim::vehicle::loader_figures(d);
+  // A figure someone may act on is a number: one that is not finite, or a
+  // mass, cycle time, speed or force that is not positive, means the files
+  // describe no working machine, whatever passed on the way in. Cycle times
+  // name their cylinder's line.
+  auto cylinder_line = [&](int joint) {
+    for (const auto& c : d.cylinders)
+      if (c.joint == joint) return c.line;
+    return 0;
+  };
+  const struct {
+    const char* name;
+    double value;
+    bool positive;
+    int line;
+  } figures[] = {{"mass_kg", f.mass_kg, true, 0},
+                 {"static_tipping_load_kg", f.static_tipping_load_kg, false, 0},
+                 {"rated_operating_capacity_kg", f.rated_operating_capacity_kg, false, 0},
+                 {"hinge_pin_height_m", f.hinge_pin_height_m, false, 0},
+                 {"arm_travel_deg", f.arm_travel_deg, true, 0},
+                 {"lift_time_s", f.lift_time_s, true, cylinder_line(0)},
+                 {"lower_time_s", f.lower_time_s, true, cylinder_line(0)},
+                 {"dump_time_s", f.dump_time_s, true, cylinder_line(1)},
+                 {"curl_time_s", f.curl_time_s, true, cylinder_line(1)},
+                 {"top_speed_km_h", f.top_speed_km_h, true, 0},
+                 {"push_force_kN", f.push_force_kN, true, 0}};
+  for (const auto& figure : figures)
+    if (!std::isfinite(figure.value) || (figure.positive && !(figure.value > 0.0)))
+      throw skidsim::io::InputError(path + (figure.line > 0 ? ":" + std::to_string(figure.line) : std::string()) +
+                                    ": the loader's " + figure.name + " comes out as " + std::to_string(figure.value) +
+                                    (figure.positive ? " (must be finite and positive)" : " (must be finite)"));
   nlohmann::json j;
   j["parameters"] = d.parameters_path;
   j["urdf"] = d.urdf_path;

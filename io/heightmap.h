@@ -13,6 +13,17 @@
 
 namespace skidsim::io {
 
+// The most cells a site may have along a side, for the command line's
+// --site-m / --cell-m and for height maps read from files alike: a square
+// of 16384^2 cells takes 5.6 GB of automaton state, past any machine the
+// simulator runs on (apps/pour_job.cpp).
+constexpr int kMaxSiteCellsPerSide = 16384;
+
+// Cell sizes a height map may give: 1 mm (finer than any grid the flow
+// law's sub-steps allow at a useful step) to 10 m (coarser than any site).
+constexpr double kMinHeightmapCell_m = 1.0e-3;
+constexpr double kMaxHeightmapCell_m = 10.0;
+
 struct Heightmap {
   int nx = 0;
   int ny = 0;
@@ -36,8 +47,14 @@ HeightmapFileInfo write_heightmap(const std::string& path_stem, const Heightmap&
                                   double min_vertical_scale_m = 1e-6);
 
 // Reads PATH_STEM.json and the PNG it names. Throws InputError naming the
-// file and field on a missing file, a PNG that is not 16-bit greyscale, or
-// metadata that does not match the image.
+// file and field: a file that is missing, not a regular file or too large
+// (io/input_file.h); JSON that does not parse (with the byte and line); a
+// field that is unknown, missing, of the wrong type, not finite or out of
+// its physical range (nx, ny: 1 to kMaxSiteCellsPerSide; cell_size_m; the
+// grid inside +-kMaxCoordinate_m; z_offset_m and the decoded heights within
+// the automaton's limits for the quantity: material 0 to 1000 m, base and
+// surface within 100 km); a PNG whose header (size, 16-bit greyscale) does
+// not match the metadata, refused before any pixel memory is allocated.
 Heightmap read_heightmap(const std::string& json_path);
 
 }  // namespace skidsim::io

@@ -3,18 +3,18 @@
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <console_bridge/console.h>
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <vector>
 
+#include "io/input_file.h"
 #include "io/soil_table.h"
+#include "io/urdf_checks.h"
 #include "io/xml_reader.h"
 #include "vehicle/cylinder_geometry.h"
 
@@ -26,37 +26,18 @@ using vehicle::LoaderDescription;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// urdfdom reports through console_bridge; keep its errors for our message
-// instead of letting it print. The first is the specific one ("Malformed
-// axis element for joint [bucket_joint]..."), the last often a summary
-// naming nothing ("joint xml is not initialized correctly").
-class CapturedLog : public console_bridge::OutputHandler {
- public:
-  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors.push_back(text);
-  }
-  std::vector<std::string> errors;
-};
+// Cylinder geometry that can move its joint. A pin closer than 1 cm to the
+// joint's axis, or pins closer than 1 cm to each other, leave the length
+// (nearly) fixed; a moment arm under 1 cm (the shipped tilt cylinder's
+// least is 2.6 cm, at full dump) is a dead centre in all but name; a
+// cylinder that moves under 1 cm over the joint's whole range would give a
+// cycle time of ~0 s.
+constexpr double kMinPinOffAxis_m = 0.01;
+constexpr double kMinMomentArm_m = 0.01;
+constexpr double kMinStrokeUsed_m = 0.01;
 
-// Where each <link>/<joint> of the URDF starts, for messages (urdfdom keeps no lines).
-struct UrdfLines {
-  std::map<std::string, int> link, joint;
-};
-
-UrdfLines index_lines(const std::string& path) {
-  tinyxml2::XMLDocument doc;
-  load_xml(doc, path);
-  UrdfLines lines;
-  const tinyxml2::XMLElement* robot = doc.RootElement();
-  if (!robot || std::string(robot->Name()) != "robot") fail_at(path, robot, "expected the root element <robot>");
-  for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    const char* name = e->Attribute("name");
-    if (!name) continue;
-    if (std::string(e->Name()) == "link") lines.link[name] = e->GetLineNum();
-    if (std::string(e->Name()) == "joint") lines.joint[name] = e->GetLineNum();
-  }
-  return lines;
-}
+// Vectors in messages as "x y z", without Eigen's column padding.
+const Eigen::IOFormat kPlain(Eigen::StreamPrecision, Eigen::DontAlignCols, " ", " ");
 
 [[noreturn]] void fail_line(const std::string& path, int line, const std::string& what) {
   std::ostringstream msg;
@@ -64,17 +45,32 @@ UrdfLines index_lines(const std::string& path) {
   throw InputError(msg.str());
 }
 
-vehicle::Pose to_pose(const urdf::Pose& p) {
+// What urdfdom hands back is checked again where it enters (the text was
+// checked before it read it, io/urdf_checks.h): a pose must be finite and
+// within the loader's extent.
+vehicle::Pose to_pose(const urdf::Pose& p, const std::string& urdf_path, int line, const std::string& what) {
   vehicle::Pose out;
   out.position_m = {p.position.x, p.position.y, p.position.z};
-  out.rotation = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized();
+  const Eigen::Vector4d q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
+  if (!(out.position_m.cwiseAbs().maxCoeff() <= kMaxUrdfExtent_m) || !q.allFinite() || !(q.norm() > 0.5)) {
+    std::ostringstream m;
+    m << what << " <origin>: xyz (" << out.position_m.transpose() << ") must be finite and within +-"
+      << kMaxUrdfExtent_m << " m, rpy finite";
+    fail_line(urdf_path, line, m.str());
+  }
+  out.rotation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
   return out;
 }
 
 void load_mesh(vehicle::VisualMesh& mesh, const Eigen::Vector3d& scale, const std::string& urdf_path, int line,
                const std::string& link) {
-  if (!fs::is_regular_file(mesh.path))
-    fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': no such file");
+  // A regular file of a sane size before assimp is given it (a folder, a
+  // device or a 10 GB file would fail late or never end).
+  try {
+    check_input_file(mesh.path, kMaxMeshBytes, "mesh");
+  } catch (const InputError& e) {
+    fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': " + e.what());
+  }
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(mesh.path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                                           aiProcess_PreTransformVertices);
@@ -86,10 +82,21 @@ void load_mesh(vehicle::VisualMesh& mesh, const Eigen::Vector3d& scale, const st
     const unsigned base = static_cast<unsigned>(mesh.vertices_m.size());
     for (unsigned v = 0; v < am->mNumVertices; ++v) {
       const aiVector3D& p = am->mVertices[v];
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-        fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': non-finite vertex");
-      mesh.vertices_m.emplace_back(static_cast<float>(p.x * scale.x()), static_cast<float>(p.y * scale.y()),
-                                   static_cast<float>(p.z * scale.z()));
+      const Eigen::Vector3d scaled = Eigen::Vector3d(p.x, p.y, p.z).cwiseProduct(scale);
+      if (!scaled.allFinite())
+        fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': non-finite vertex " +
+                                       std::to_string(v) + " of mesh " + std::to_string(m));
+      // A loader's part lies within metres of its link's frame: a mesh
+      // that reaches past the URDF's extent (a file in millimetres read
+      // as metres, a corrupt vertex) is refused, not drawn.
+      if (!(scaled.cwiseAbs().maxCoeff() <= kMaxUrdfExtent_m)) {
+        std::ostringstream msg;
+        msg << "link '" << link << "' visual mesh '" << mesh.path << "': vertex " << v << " of mesh " << m << " at ("
+            << scaled.transpose().format(kPlain) << ") m (after <mesh scale>) lies beyond +-" << kMaxUrdfExtent_m
+            << " m of the link's frame (a mesh in millimetres needs scale=\"0.001 0.001 0.001\")";
+        fail_line(urdf_path, line, msg.str());
+      }
+      mesh.vertices_m.emplace_back(scaled.cast<float>());
     }
     for (unsigned f = 0; f < am->mNumFaces; ++f) {
       const aiFace& face = am->mFaces[f];
@@ -109,24 +116,28 @@ vehicle::RigidLink read_link(const urdf::Link& link, const std::string& urdf_pat
   const std::string where = "link '" + link.name + "'";
   if (link.inertial) {
     const urdf::Inertial& in = *link.inertial;
-    if (!(in.mass > 0.0) || !std::isfinite(in.mass)) {
+    if (!(in.mass > 0.0 && in.mass <= kMaxUrdfMass_kg)) {
       std::ostringstream m;
-      m << where << " <inertial><mass value=" << in.mass << ">: the mass must be positive";
+      m << where << " <inertial><mass value=" << in.mass << ">: the mass must be positive and at most "
+        << kMaxUrdfMass_kg << " kg";
       fail_line(urdf_path, line, m.str());
     }
     const double off = std::abs(in.ixy) + std::abs(in.ixz) + std::abs(in.iyz);
     const Eigen::Vector3d I(in.ixx, in.iyy, in.izz);
+    if (!std::isfinite(off) || !(I.cwiseAbs().maxCoeff() <= kMaxUrdfInertia_kg_m2))
+      fail_line(urdf_path, line, where + " <inertia>: the moments must be finite and at most " +
+                                     std::to_string(kMaxUrdfInertia_kg_m2) + " kg m^2");
     if (off > 1e-9 * I.cwiseAbs().maxCoeff())
       fail_line(urdf_path, line, where + " <inertia>: give principal moments (ixy = ixz = iyz = 0) and turn the "
                                          "<inertial><origin rpy> to the principal axes");
     if (!(I.minCoeff() > 0.0) || I.x() > I.y() + I.z() || I.y() > I.x() + I.z() || I.z() > I.x() + I.y()) {
       std::ostringstream m;
-      m << where << " <inertia> (" << I.transpose() << "): the moments must be positive and satisfy the triangle "
+      m << where << " <inertia> (" << I.transpose().format(kPlain) << "): the moments must be positive and satisfy the triangle "
         << "inequality";
       fail_line(urdf_path, line, m.str());
     }
     out.mass_kg = in.mass;
-    out.com = to_pose(in.origin);
+    out.com = to_pose(in.origin, urdf_path, line, where + " <inertial>");
     out.principal_inertia_kg_m2 = I;
   } else if (!massless_ok) {
     fail_line(urdf_path, line, where + ": missing <inertial> (only wheels may be massless)");
@@ -135,9 +146,10 @@ vehicle::RigidLink read_link(const urdf::Link& link, const std::string& urdf_pat
     if (!c->geometry || c->geometry->type != urdf::Geometry::BOX) continue;
     const auto& box = static_cast<const urdf::Box&>(*c->geometry);
     vehicle::CollisionBox b;
-    b.pose = to_pose(c->origin);
+    b.pose = to_pose(c->origin, urdf_path, line, where + " <collision>");
     b.half_extents_m = 0.5 * Eigen::Vector3d(box.dim.x, box.dim.y, box.dim.z);
-    if (!(b.half_extents_m.minCoeff() > 0.0)) fail_line(urdf_path, line, where + " <collision><box>: sizes must be positive");
+    if (!(b.half_extents_m.minCoeff() > 0.0) || !(b.half_extents_m.maxCoeff() <= kMaxUrdfExtent_m))
+      fail_line(urdf_path, line, where + " <collision><box>: sizes must be positive and finite");
     out.collision.push_back(b);
   }
   const fs::path dir = fs::path(urdf_path).parent_path();
@@ -152,7 +164,7 @@ vehicle::RigidLink read_link(const urdf::Link& link, const std::string& urdf_pat
       fail_line(urdf_path, line, where + " visual mesh '" + mesh.filename + "': scale must be positive");
     vehicle::VisualMesh vm;
     vm.path = fs::absolute(dir / mesh.filename).lexically_normal().string();
-    vm.pose = to_pose(v->origin);
+    vm.pose = to_pose(v->origin, urdf_path, line, where + " <visual>");
     load_mesh(vm, {mesh.scale.x, mesh.scale.y, mesh.scale.z}, urdf_path, line, link.name);
     out.visuals.push_back(std::move(vm));
   }
@@ -161,37 +173,10 @@ vehicle::RigidLink read_link(const urdf::Link& link, const std::string& urdf_pat
 
 void read_urdf(LoaderDescription& d) {
   const std::string& path = d.urdf_path;
-  const UrdfLines lines = index_lines(path);
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  CapturedLog log;
-  console_bridge::useOutputHandler(&log);
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text.str());
-  console_bridge::restorePreviousOutputHandler();
-  if (!model) {
-    // urdfdom names the link or joint ("[name]" or "'name'"), not the line:
-    // find the line of the first element its messages name.
-    int line = 0;
-    std::string what;
-    for (const std::string& error : log.errors) {
-      what += (what.empty() ? "" : "; ") + error;
-      size_t best = std::string::npos;
-      int error_line = 0;
-      for (const auto* index : {&lines.joint, &lines.link})
-        for (const auto& [name, l] : *index)
-          for (const std::string& quoted : {"[" + name + "]", "'" + name + "'"}) {
-            const size_t at = error.find(quoted);
-            if (at != std::string::npos && (best == std::string::npos || at < best)) {
-              best = at;
-              error_line = l;
-            }
-          }
-      if (line == 0) line = error_line;
-    }
-    fail_line(path, line, "not a valid URDF: " + (what.empty() ? std::string("parse failed") : what));
-  }
-
+  // Read once, its numbers checked before urdfdom parses it (io/urdf_checks.h).
+  const CheckedUrdf checked = read_checked_urdf(path);
+  const UrdfLines& lines = checked.lines;
+  const urdf::ModelInterfaceSharedPtr& model = checked.model;
   const urdf::LinkConstSharedPtr root = model->getRoot();
   auto link_line = [&](const std::string& n) { return lines.link.count(n) ? lines.link.at(n) : 0; };
   auto joint_line = [&](const std::string& n) { return lines.joint.count(n) ? lines.joint.at(n) : 0; };
@@ -215,10 +200,11 @@ void read_urdf(LoaderDescription& d) {
           if (c->geometry && c->geometry->type == urdf::Geometry::CYLINDER)
             cyl = static_cast<const urdf::Cylinder*>(c->geometry.get());
         if (!cyl) fail_line(path, link_line(child->name), "link '" + child->name + "': a wheel needs a <collision><cylinder>");
-        if (!(cyl->radius > 0.0 && cyl->length > 0.0))
-          fail_line(path, link_line(child->name), "link '" + child->name + "' <cylinder>: radius and length must be positive");
+        if (!(cyl->radius >= kMinUrdfSize_m && cyl->radius <= kMaxUrdfExtent_m && cyl->length >= kMinUrdfSize_m &&
+              cyl->length <= kMaxUrdfExtent_m))
+          fail_line(path, link_line(child->name), "link '" + child->name + "' <cylinder>: radius and length must be positive and finite");
         // The tyre model takes the axle along the chassis's y.
-        const vehicle::Pose hub = to_pose(j->parent_to_joint_origin_transform);
+        const vehicle::Pose hub = to_pose(j->parent_to_joint_origin_transform, path, jl, "joint '" + j->name + "'");
         if (std::abs(std::abs(j->axis.y) - 1.0) > 1e-6 || hub.rotation.angularDistance(Eigen::Quaterniond::Identity()) > 1e-6)
           fail_line(path, jl, "joint '" + j->name + "': a wheel's axle must be the chassis's y (axis 0 1 0, rpy 0 0 0)");
         vehicle::Wheel w;
@@ -239,13 +225,15 @@ void read_urdf(LoaderDescription& d) {
       }
       if (j->type != urdf::Joint::REVOLUTE)
         fail_line(path, jl, "joint '" + j->name + "': only revolute (implement) and continuous (wheel) joints are supported");
-      if (!j->limits || !(j->limits->upper > j->limits->lower))
-        fail_line(path, jl, "joint '" + j->name + "' <limit>: upper must exceed lower");
+      if (!j->limits || !(j->limits->upper > j->limits->lower) || !(std::abs(j->limits->lower) <= kMaxUrdfAngle_rad) ||
+          !(std::abs(j->limits->upper) <= kMaxUrdfAngle_rad))
+        fail_line(path, jl, "joint '" + j->name + "' <limit>: lower and upper must be finite angles, upper above lower");
       vehicle::ImplementJoint ij;
       ij.name = j->name;
-      ij.origin = to_pose(j->parent_to_joint_origin_transform);
+      ij.origin = to_pose(j->parent_to_joint_origin_transform, path, jl, "joint '" + j->name + "'");
       ij.axis = Eigen::Vector3d(j->axis.x, j->axis.y, j->axis.z);
-      if (!(ij.axis.norm() > 0.5)) fail_line(path, jl, "joint '" + j->name + "' <axis>: must be a unit vector");
+      if (!ij.axis.allFinite() || !(ij.axis.norm() > 0.5))
+        fail_line(path, jl, "joint '" + j->name + "' <axis>: must be a unit vector");
       ij.axis.normalize();
       ij.lower_rad = j->limits->lower;
       ij.upper_rad = j->limits->upper;
@@ -289,20 +277,51 @@ void read_cylinder(LoaderDescription& d, const std::string& path, const tinyxml2
   c.child_pin_m = a.vector3_in("child_pin", -50.0, 50.0);
   c.line = e->GetLineNum();
   a.reject_unknown();
-  // The stroke must carry the joint through its whole range, one way (the
-  // length must grow or shrink monotonically: no dead centre inside).
   const vehicle::ImplementJoint& j = d.joints[c.joint];
+  // A pin on the joint's axis keeps the cylinder's length whatever the
+  // angle: it cannot turn the joint (and its speed would be infinite). In
+  // the child frame the axis runs through the origin along j.axis; in the
+  // parent frame through the joint's origin.
+  {
+    const double child_off_axis_m = j.axis.cross(c.child_pin_m).norm();
+    const double parent_off_axis_m =
+        (j.origin.rotation * j.axis).cross(c.parent_pin_m - j.origin.position_m).norm();
+    for (const auto& [pin, off_m] : {std::pair{"child_pin", child_off_axis_m}, std::pair{"parent_pin", parent_off_axis_m}})
+      if (!(off_m >= kMinPinOffAxis_m)) {
+        std::ostringstream m;
+        m << "cylinder '" << c.name << "': attribute '" << pin << "' lies " << off_m << " m from the axis of joint '" << j.name
+          << "' (at least " << kMinPinOffAxis_m << " m): the cylinder's length would not change as the "
+          << "joint turns, so it could not move it";
+        a.fail(m.str());
+      }
+  }
+  // The stroke must carry the joint through its whole range, one way (the
+  // length must grow or shrink monotonically: no dead centre inside), with
+  // a moment arm everywhere (tau = F dl/dq, dq/dt = v / (dl/dq)).
   constexpr int kSamples = 400;
   double previous = 0.0;
   int sign = 0;
   for (int k = 0; k <= kSamples; ++k) {
     const double q = j.lower_rad + (j.upper_rad - j.lower_rad) * k / kSamples;
     const vehicle::CylinderKinematics ck = vehicle::cylinder_kinematics(c, j, q);
+    if (!(ck.length_m >= kMinPinOffAxis_m)) {
+      std::ostringstream m;
+      m << "cylinder '" << c.name << "': parent_pin and child_pin coincide at " << q * 180.0 / kPi << " deg of joint '"
+        << j.name << "' (" << ck.length_m << " m apart)";
+      a.fail(m.str());
+    }
     if (ck.length_m < c.min_length_m - 1e-6 || ck.length_m > c.max_length_m + 1e-6) {
       std::ostringstream m;
       m << "cylinder '" << c.name << "' cannot reach joint '" << j.name << "' at " << q * 180.0 / kPi
         << " deg: it would need " << ck.length_m << " m pin to pin, its stroke spans [" << c.min_length_m << ", "
         << c.max_length_m << "] m";
+      a.fail(m.str());
+    }
+    if (!(std::abs(ck.moment_arm_m) >= kMinMomentArm_m)) {
+      std::ostringstream m;
+      m << "cylinder '" << c.name << "': its moment arm about joint '" << j.name << "' is " << std::abs(ck.moment_arm_m)
+        << " m at " << q * 180.0 / kPi << " deg (at least " << kMinMomentArm_m
+        << " m): it is in line with the joint's pin there and cannot turn it";
       a.fail(m.str());
     }
     if (k > 0) {
@@ -311,6 +330,14 @@ void read_cylinder(LoaderDescription& d, const std::string& path, const tinyxml2
       sign = s;
     }
     previous = ck.length_m;
+  }
+  const double used_m = std::abs(vehicle::cylinder_kinematics(c, j, j.upper_rad).length_m -
+                                 vehicle::cylinder_kinematics(c, j, j.lower_rad).length_m);
+  if (!(used_m >= kMinStrokeUsed_m)) {
+    std::ostringstream m;
+    m << "cylinder '" << c.name << "' moves only " << used_m << " m over the range of joint '" << j.name << "' (at least "
+      << kMinStrokeUsed_m << " m)";
+    a.fail(m.str());
   }
   d.cylinders.push_back(c);
 }
@@ -370,7 +397,11 @@ LoaderDescription load_loader(const std::string& parameters_path) {
     const std::string urdf = a.text("urdf", true);
     a.reject_unknown();
     d.urdf_path = (fs::path(parameters_path).parent_path() / urdf).lexically_normal().string();
-    if (!fs::is_regular_file(d.urdf_path)) a.fail("attribute 'urdf' = \"" + urdf + "\": no such file " + d.urdf_path);
+    try {
+      check_input_file(d.urdf_path, kMaxXmlBytes, "URDF");
+    } catch (const InputError& e) {
+      a.fail("attribute 'urdf' = \"" + urdf + "\": " + e.what());
+    }
   }
   read_urdf(d);
 
@@ -503,6 +534,23 @@ LoaderDescription load_loader(const std::string& parameters_path) {
     int n = 0;
     for (const auto& c : d.cylinders) n += c.joint == static_cast<int>(j);
     if (n != 1) fail_at(parameters_path, root, "joint '" + d.joints[j].name + "' needs exactly one <cylinder>");
+  }
+  // What the cylinders imply, checked here so that no figure built on them
+  // (vehicle/loader_figures.h: lift, lower, dump and curl times) is 0 or
+  // not finite: the seconds to run each joint's range on the full pump flow.
+  for (const auto& c : d.cylinders) {
+    const vehicle::ImplementJoint& j = d.joints[c.joint];
+    const double used_m = std::abs(vehicle::cylinder_kinematics(c, j, j.upper_rad).length_m -
+                                   vehicle::cylinder_kinematics(c, j, j.lower_rad).length_m);
+    for (const double area_m2 : {c.piston_area_m2(), c.annulus_area_m2()}) {
+      const double time_s = used_m * area_m2 / d.implement_pump.flow_at_rated_m3_per_s;
+      if (!(std::isfinite(time_s) && time_s > 0.0)) {
+        std::ostringstream m;
+        m << "<cylinder> cylinder '" << c.name << "' would run the range of joint '" << j.name << "' in " << time_s
+          << " s on the <implement_pump>'s flow (must be finite and positive)";
+        fail_line(parameters_path, c.line, m.str());
+      }
+    }
   }
   if (d.wheels.size() > 8) fail_at(parameters_path, root, "at most 8 wheels are supported");
   if (wheel_links.size() != d.wheels.size())

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "io/png_reader.h"
 
 namespace skidsim::io {
@@ -19,6 +20,20 @@ struct FileCloser {
     if (f) std::fclose(f);
   }
 };
+
+// libpng's error callback must not return (libpng manual, "Error
+// handling"): keep the message for the InputError, then jump back to the
+// reader's setjmp. Warnings (an odd ancillary chunk) are not errors here.
+void keep_libpng_error(png_structp png, png_const_charp message) {
+  auto* out = static_cast<char*>(png_get_error_ptr(png));
+  if (out) std::snprintf(out, sizeof(PngReader::libpng_error), "%s", message ? message : "unknown error");
+  png_longjmp(png, 1);
+}
+void ignore_libpng_warning(png_structp, png_const_charp) {}
+
+// A frame or a contact sheet, not a poster: the most pixels on a side an
+// image read back may have (the renderer's own limit, render/offscreen_context.cpp).
+constexpr png_uint_32 kMaxImageSide = 16384;
 
 }  // namespace
 
@@ -59,7 +74,8 @@ void write_png_rgb8(const std::string& path, const RgbImage& image, int zlib_lev
   });
 }
 
-PngReader::PngReader(const std::string& path, const std::string& what) {
+PngReader::PngReader(const std::string& path_in, const std::string& what) : path(path_in) {
+  check_input_file(path, kMaxPngBytes, what.c_str());
   file = std::fopen(path.c_str(), "rb");
   if (!file) throw InputError(path + ": cannot open " + what);
   png_byte signature[8];
@@ -67,7 +83,7 @@ PngReader::PngReader(const std::string& path, const std::string& what) {
     std::fclose(file);
     throw InputError(path + ": not a PNG file");
   }
-  png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png = png_create_read_struct(PNG_LIBPNG_VER_STRING, libpng_error, keep_libpng_error, ignore_libpng_warning);
   info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
     png_destroy_read_struct(&png, &info, nullptr);
@@ -83,35 +99,48 @@ PngReader::~PngReader() {
   std::fclose(file);
 }
 
+std::string PngReader::corrupt() const {
+  return path + ": corrupt or truncated PNG" + (libpng_error[0] ? std::string(" (libpng: ") + libpng_error + ")" : "");
+}
+
 RgbImage read_png_rgb8(const std::string& path) {
-  PngReader reader(path, "the image");
+  PngReader reader(path, "image");
   png_structp png = reader.png;
   png_infop info = reader.info;
   // libpng reports errors by longjmp: the buffers live behind a pointer made
-  // before setjmp.
-  const auto image = std::make_unique<RgbImage>();
-  std::vector<png_bytep> rows;
-  if (setjmp(png_jmpbuf(png))) throw InputError(path + ": corrupt or truncated PNG");
+  // before setjmp, so nothing set up after it is skipped or left undefined.
+  struct Buffers {
+    RgbImage image;
+    std::vector<png_bytep> rows;
+  };
+  const auto buffers = std::make_unique<Buffers>();
+  if (setjmp(png_jmpbuf(png))) throw InputError(reader.corrupt());
   png_read_info(png, info);
+  // The header is not trusted: its size is checked before a pixel buffer
+  // is made for it.
+  const png_uint_32 width = png_get_image_width(png, info), height = png_get_image_height(png, info);
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
+    throw InputError(path + ": the header says " + std::to_string(width) + " x " + std::to_string(height) +
+                     " pixels (an image read back has 1 to " + std::to_string(kMaxImageSide) + " on a side)");
   // Whatever it holds, as 8-bit RGB.
   png_set_expand(png);
   png_set_strip_16(png);
   png_set_strip_alpha(png);
   png_set_gray_to_rgb(png);
+  png_set_interlace_handling(png);
   png_read_update_info(png, info);
-  // A frame or a sheet, not a poster: the header is not trusted further.
-  if (png_get_image_width(png, info) > 16384 || png_get_image_height(png, info) > 16384)
-    throw InputError(path + ": over 16384 pixels on a side");
-  image->width = static_cast<int>(png_get_image_width(png, info));
-  image->height = static_cast<int>(png_get_image_height(png, info));
-  if (png_get_rowbytes(png, info) != static_cast<std::size_t>(image->width) * 3)
+  RgbImage& image = buffers->image;
+  image.width = static_cast<int>(width);
+  image.height = static_cast<int>(height);
+  if (png_get_rowbytes(png, info) != static_cast<std::size_t>(image.width) * 3)
     throw InputError(path + ": cannot read it as 8-bit RGB");
-  image->rgb.resize(static_cast<std::size_t>(image->width) * static_cast<std::size_t>(image->height) * 3);
-  rows.resize(static_cast<std::size_t>(image->height));
-  for (int r = 0; r < image->height; ++r) rows[static_cast<std::size_t>(r)] = &image->rgb[static_cast<std::size_t>(r) * image->width * 3];
-  png_read_image(png, rows.data());
+  image.rgb.resize(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3);
+  buffers->rows.resize(static_cast<std::size_t>(image.height));
+  for (int r = 0; r < image.height; ++r)
+    buffers->rows[static_cast<std::size_t>(r)] = &image.rgb[static_cast<std::size_t>(r) * static_cast<std::size_t>(image.width) * 3];
+  png_read_image(png, buffers->rows.data());
   png_read_end(png, nullptr);
-  return *image;
+  return std::move(image);
 }
 
 }  // namespace skidsim::io

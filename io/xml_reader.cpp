@@ -18,7 +18,10 @@ void fail_at(const std::string& path, const tinyxml2::XMLElement* e, const std::
 }
 
 void load_xml(tinyxml2::XMLDocument& doc, const std::string& path) {
-  const std::string text = read_input_file(path, kMaxXmlBytes, "XML file");
+  parse_xml(doc, path, read_input_file(path, kMaxXmlBytes, "XML file"));
+}
+
+void parse_xml(tinyxml2::XMLDocument& doc, const std::string& path, const std::string& text) {
   // XML is UTF-8 here (the encoding declared or not): names and messages go
   // on into JSON reports and LCM strings, which must be valid text.
   const Utf8Error bad = find_invalid_utf8(text);

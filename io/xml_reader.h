@@ -18,6 +18,9 @@ namespace skidsim::io {
 // Loads `path` or throws InputError with the line and the reason: not a
 // regular file, too large (io/input_file.h), not UTF-8, or tinyxml2's message.
 void load_xml(tinyxml2::XMLDocument& doc, const std::string& path);
+// The same for `text` already read from `path` (read_input_file), for a
+// caller that hands the same bytes to another parser too (the URDF).
+void parse_xml(tinyxml2::XMLDocument& doc, const std::string& path, const std::string& text);
 
 // The one bound for positions and extents read from any file (metres): far
 // past any site (2 km) and the roads beyond it, near enough that every

@@ -64,6 +64,9 @@ TEST(SkidsimBatch, BadListsAreRefusedNamingTheLine) {
       {good + " --out elsewhere\n", "the batch sets"},
       {kSrc + "/scenarios/grading.xml\n", "needs --script or --replay"},
       {"# nothing\n", "no sessions"},
+      // Its words become arguments and go into batch.json: text only.
+      {good + "\n# caf\xe9\n", "list.txt:2: invalid UTF-8"},
+      {good + "\n" + std::string("x\0y", 3) + "\n", "list.txt:2: a NUL byte"},
   };
   for (const auto& [text, expected] : cases) {
     std::ofstream(dir / "list.txt") << text;
@@ -74,6 +77,12 @@ TEST(SkidsimBatch, BadListsAreRefusedNamingTheLine) {
   }
   std::ofstream(dir / "list.txt") << good << "\n";
   EXPECT_EQ(run_skidsim("batch " + (dir / "list.txt").string() + " --index 2 --out " + (dir / "out").string()).exit_code, 2);
+  // Read as a checked file: a folder or a device is no list.
+  for (const std::string& list : {dir.string(), std::string("/dev/zero")}) {
+    const auto r = run_skidsim("batch " + list + " --out " + (dir / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("batch list " + list), std::string::npos) << r.output;
+  }
 }
 
 }  // namespace

@@ -37,6 +37,41 @@ TEST(AppCheck, BrokenLoaderExitsTwoNamingTheFile) {
   std::filesystem::remove_all(dir);
 }
 
+// A lift cylinder whose pins are given the same coordinates (the child pin
+// on the joint's axis: its length never changes) used to pass with a 0 s
+// lift; a URDF mass of 1e308 used to be blamed on the tyres.
+TEST(AppCheck, DegenerateCylindersAndHugeMassesExitTwoNamingTheElement) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "skidsim_check_degenerate";
+  fs::remove_all(dir);
+  fs::copy(fs::path(SKIDSIM_SOURCE_DIR) / "assets" / "loader", dir, fs::copy_options::recursive);
+  const auto edit = [&](const std::string& name, const std::string& from, const std::string& to) {
+    std::ifstream in(dir / name);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    std::ofstream(dir / name, std::ios::trunc) << text;
+  };
+  const std::string params = (dir / "skidsteer.params.xml").string();
+  edit("skidsteer.params.xml", "parent_pin=\"-0.70 0 -0.20\" child_pin=\"0.1197 0 -0.4563\"",
+       "parent_pin=\"0 0 0\" child_pin=\"0 0 0\"");
+  CommandResult r = run_skidsim("check --loader " + params);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(params + ":27: <cylinder> cylinder 'lift'"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("lift_time_s"), std::string::npos) << r.output;
+  edit("skidsteer.params.xml", "parent_pin=\"0 0 0\" child_pin=\"0 0 0\"",
+       "parent_pin=\"-0.70 0 -0.20\" child_pin=\"0.1197 0 -0.4563\"");
+  ASSERT_EQ(run_skidsim("check --loader " + params).exit_code, 0);
+  edit("skidsteer.urdf", "<mass value=\"1900\"/>", "<mass value=\"1e308\"/>");
+  r = run_skidsim("check --loader " + params);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("skidsteer.urdf:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("link 'chassis' <inertial><mass>"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("tyre"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
 // `skidsim check EXERCISE`: validates the exercise and its loader without
 // running; a broken one exits 2 naming the file, the line and the element.
 TEST(AppCheck, ExerciseIsValidatedWithoutRunning) {

@@ -150,6 +150,37 @@ TEST(SkidsimPour, OutOfRangeHeightMapsNameTheFile) {
   fs::remove_all(dir);
 }
 
+// Every field of an imported height map is checked where it enters: a cell
+// of 1e308 m once gave NaN masses and a "balanced" ledger; a side past the
+// site cap, or a PNG header that disagrees with the metadata, is refused
+// before anything is allocated for it.
+TEST(SkidsimPour, HeightMapFieldsOutOfRangeAreRefusedNamingTheField) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_pour_fields";
+  fs::remove_all(dir);
+  ASSERT_EQ(run("pour --out " + dir.string() + " --site-m 1 --pour-s 1 --settle-s 1").exit_code, 0);
+  const nlohmann::json good = nlohmann::json::parse(std::ifstream(dir / "terrain_material.json"));
+  struct BadField {
+    const char* field;
+    nlohmann::json value;
+    const char* says;
+  };
+  for (const BadField& c : {BadField{"cell_size_m", 1e308, "out of range"}, BadField{"cell_size_m", "NaN", "expected a number"},
+                            BadField{"nx", 20000, "16384"}, BadField{"origin_m", {0.0, -1e308}, "out of range"},
+                            BadField{"vertical_scale_m", 1e308, "out of range"}}) {
+    nlohmann::json meta = good;
+    meta[c.field] = c.value;
+    meta["image"] = (dir / "terrain_material.png").string();
+    const fs::path bad = dir / "bad_material.json";
+    std::ofstream(bad, std::ios::trunc) << meta.dump();
+    const Result r = run("pour --out " + (dir / "again").string() + " --material-map " + bad.string());
+    EXPECT_EQ(r.exit_code, 2) << c.field << ": " << r.output;
+    EXPECT_NE(r.output.find(bad.string() + ": field '" + c.field + "'"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "again"));
+  fs::remove_all(dir);
+}
+
 TEST(SkidsimCommand, HelpListsTheSubcommands) {
   const Result r = run("--help");
   EXPECT_EQ(r.exit_code, 0);

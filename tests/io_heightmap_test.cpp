@@ -1,12 +1,16 @@
 // Height maps on disk: 16-bit PNG + JSON metadata, round trip and bad input.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_file.h"
 #include "io/heightmap.h"
+#include "io/png_image.h"
 
 namespace skidsim::io {
 namespace {
@@ -46,8 +50,55 @@ class HeightmapFiles : public ::testing::Test {
     }
   }
 
+  // The metadata of a written 8 x 8 map, to break one field at a time.
+  nlohmann::json good_meta() {
+    write_heightmap(path("ok"), sample(8, 8, 0.1));
+    return nlohmann::json::parse(std::ifstream(path("ok.json")));
+  }
+
   fs::path dir_;
 };
+
+// A PNG of its signature, an IHDR saying what the test likes, a two-byte
+// IDAT (a zlib header, no pixels) and IEND: a header's claims with nothing
+// behind them.
+std::uint32_t crc32(const std::string& bytes) {
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (const unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+void put32(std::string& out, std::uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) out += static_cast<char>((v >> shift) & 0xFFu);
+}
+void write_png_header_only(const std::string& path, std::uint32_t width, std::uint32_t height, int bit_depth, int colour) {
+  std::string ihdr = "IHDR";
+  put32(ihdr, width);
+  put32(ihdr, height);
+  ihdr += static_cast<char>(bit_depth);
+  ihdr += static_cast<char>(colour);
+  ihdr += std::string(3, '\0');  // deflate, adaptive filtering, no interlace
+  std::string png = "\x89PNG\r\n\x1a\n";
+  put32(png, 13);
+  png += ihdr;
+  put32(png, crc32(ihdr));
+  const std::string idat = "IDAT\x78\x9c";
+  put32(png, 2);
+  png += idat;
+  put32(png, crc32(idat));
+  put32(png, 0);
+  png += "IEND";
+  put32(png, crc32("IEND"));
+  std::ofstream(path, std::ios::binary) << png;
+}
+
+long peak_rss_kb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;
+}
 
 TEST_F(HeightmapFiles, RoundTripWithinHalfAVerticalStep) {
   for (double cell : {0.05, 0.025}) {
@@ -112,6 +163,148 @@ TEST_F(HeightmapFiles, BadInputNamesFileAndField) {
     std::ofstream(path("text.json")) << meta.dump();
     expect_error_mentions([&] { read_heightmap(path("text.json")); }, {"text.png", "not a PNG"});
   }
+}
+
+// Every field is checked for its type, finiteness and physical range where
+// it enters; a value past its range is named with the file and the field,
+// never turned into NaN masses downstream (cell_size_m = 1e308 was).
+TEST_F(HeightmapFiles, EveryFieldIsCheckedWhereItEnters) {
+  const nlohmann::json good = good_meta();
+  const std::vector<nlohmann::json> bad_values = {1e308, -1e308, "NaN", "Infinity", "1", true, nullptr,
+                                                  nlohmann::json::array(), nlohmann::json::object()};
+  for (const char* field : {"cell_size_m", "z_offset_m", "vertical_scale_m", "nx", "ny", "version", "origin_m"}) {
+    for (const nlohmann::json& value : bad_values) {
+      nlohmann::json meta = good;
+      meta[field] = value;
+      std::ofstream(path("bad.json"), std::ios::trunc) << meta.dump();
+      SCOPED_TRACE(std::string(field) + " = " + value.dump());
+      expect_error_mentions([&] { read_heightmap(path("bad.json")); }, {"bad.json", std::string("'") + field + "'"});
+    }
+    nlohmann::json meta = good;
+    meta.erase(field);
+    std::ofstream(path("missing_field.json"), std::ios::trunc) << meta.dump();
+    expect_error_mentions([&] { read_heightmap(path("missing_field.json")); },
+                          {"missing_field.json", "missing", std::string("'") + field + "'"});
+  }
+  // One bad coordinate of two; a fractional cell count; a format or quantity
+  // of the wrong type.
+  for (const auto& [field, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"origin_m", {0.0, 1e308}}, {"origin_m", {0.0, "NaN"}}, {"origin_m", {0.0, 0.0, 0.0}},
+           {"nx", 8.5}, {"ny", 8.0}, {"nx", -8}, {"nx", 0}, {"format", 1}, {"quantity", 2}, {"image", 3},
+           {"quantity", "lava"}, {"cell_size_m", 0.0}, {"cell_size_m", -0.1}, {"vertical_scale_m", 0.0}}) {
+    nlohmann::json meta = good;
+    meta[field] = value;
+    std::ofstream(path("bad.json"), std::ios::trunc) << meta.dump();
+    SCOPED_TRACE(field + " = " + value.dump());
+    expect_error_mentions([&] { read_heightmap(path("bad.json")); }, {"bad.json", "'" + field + "'"});
+  }
+}
+
+TEST_F(HeightmapFiles, UnknownFieldsAndBadJsonAreNamed) {
+  nlohmann::json meta = good_meta();
+  meta["cell_size"] = 0.1;  // a typo must not pass silently
+  std::ofstream(path("typo.json")) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("typo.json")); }, {"typo.json", "unknown field 'cell_size'"});
+  // A field holding a long array is shown in part.
+  meta = good_meta();
+  meta["origin_m"] = std::vector<double>(100000, 1.0);
+  std::ofstream(path("long.json")) << meta.dump();
+  try {
+    read_heightmap(path("long.json"));
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'origin_m' = [1.0,1.0"), std::string::npos) << e.what();
+    EXPECT_LT(std::string(e.what()).size(), 400u) << e.what();
+  }
+  // JSON has no NaN: the parser's byte and the line are given.
+  std::ofstream(path("nan.json")) << "{\n  \"format\": \"skidsim-heightmap\",\n  \"cell_size_m\": NaN\n}\n";
+  expect_error_mentions([&] { read_heightmap(path("nan.json")); }, {"nan.json:3:", "invalid JSON at byte"});
+  // A number past double's range parses to no finite number.
+  std::string text = good_meta().dump();
+  text.replace(text.find("\"cell_size_m\":") + 14, 3, "1e999");
+  std::ofstream(path("huge.json")) << text;
+  expect_error_mentions([&] { read_heightmap(path("huge.json")); }, {"huge.json", "invalid JSON", "1e999"});
+  std::ofstream(path("array.json")) << "[1, 2]";
+  expect_error_mentions([&] { read_heightmap(path("array.json")); }, {"array.json", "object"});
+}
+
+TEST_F(HeightmapFiles, NotRegularFilesAreRefusedByName) {
+  fs::create_directories(path("folder.json"));
+  expect_error_mentions([&] { read_heightmap(path("folder.json")); }, {"folder.json", "directory"});
+  nlohmann::json meta = good_meta();
+  meta["image"] = "/dev/zero";  // would read forever
+  std::ofstream(path("zero.json")) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("zero.json")); }, {"/dev/zero", "not a regular file"});
+}
+
+// The same cap on a side as the command line's site: the metadata is
+// refused before the image is opened.
+TEST_F(HeightmapFiles, SidesPastTheSiteCapAreRefused) {
+  nlohmann::json meta = good_meta();
+  meta["nx"] = kMaxSiteCellsPerSide + 1;
+  std::ofstream(path("wide.json")) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("wide.json")); },
+                        {"wide.json", "'nx'", std::to_string(kMaxSiteCellsPerSide)});
+  // Far corner beyond the coordinate bound, with each field in its own range.
+  meta = good_meta();
+  meta["origin_m"] = {99999.5, 0.0};  // + 7 cells of 0.1 m
+  std::ofstream(path("far.json")) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("far.json")); }, {"far.json", "far cell"});
+}
+
+// A header claiming 100000 x 100000 pixels (20 GB of 16-bit samples) in a
+// file of 71 bytes: compared with the metadata before any pixel buffer.
+TEST_F(HeightmapFiles, PngHeaderIsComparedBeforeAnyPixelIsAllocated) {
+  nlohmann::json meta = good_meta();
+  meta["nx"] = 10;
+  meta["ny"] = 10;
+  meta["image"] = "huge.png";
+  write_png_header_only(path("huge.png"), 100000, 100000, 16, 0);
+  std::ofstream(path("huge.json")) << meta.dump();
+  const long before_kb = peak_rss_kb();
+  expect_error_mentions([&] { read_heightmap(path("huge.json")); },
+                        {"huge.json", "'nx', 'ny' = 10 x 10", "huge.png", "100000 x 100000"});
+  EXPECT_LT(peak_rss_kb() - before_kb, 64 * 1024) << "kB: the header's size was allocated";
+  // An 8-bit image with the right size; a header past libpng's own limit.
+  write_png_header_only(path("eight.png"), 10, 10, 8, 0);
+  meta["image"] = "eight.png";
+  std::ofstream(path("eight.json")) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("eight.json")); }, {"eight.png", "16-bit greyscale"});
+  write_png_header_only(path("giant.png"), 0x7FFFFFFFu, 10, 16, 0);
+  meta["image"] = "giant.png";
+  std::ofstream(path("giant.json")) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("giant.json")); }, {"giant.png", "libpng"});
+}
+
+// Frames read back (the contact sheet) are held to a frame's size.
+TEST_F(HeightmapFiles, ImagesReadBackAreCheckedBeforeAllocation) {
+  write_png_header_only(path("poster.png"), 100000, 100000, 8, 2);
+  expect_error_mentions([&] { read_png_rgb8(path("poster.png")); }, {"poster.png", "100000 x 100000"});
+  fs::create_directories(path("frames.png"));
+  expect_error_mentions([&] { read_png_rgb8(path("frames.png")); }, {"frames.png", "directory"});
+  expect_error_mentions([&] { read_png_rgb8("/dev/zero"); }, {"/dev/zero", "not a regular file"});
+  RgbImage image;
+  image.width = 3;
+  image.height = 2;
+  image.rgb.assign(18, 200);
+  write_png_rgb8(path("small.png"), image);
+  EXPECT_EQ(read_png_rgb8(path("small.png")).rgb, image.rgb);
+}
+
+// Decoded heights within the automaton's limits for the quantity, named by
+// cell: a material map whose steps reach past 1000 m of column.
+TEST_F(HeightmapFiles, DecodedHeightsOutOfRangeNameTheCell) {
+  Heightmap m = sample(8, 8, 0.1);
+  m.quantity = "material";
+  write_heightmap(path("deep"), m);
+  nlohmann::json meta = nlohmann::json::parse(std::ifstream(path("deep.json")));
+  meta["vertical_scale_m"] = 1.0;  // 65535 m at the top pixel
+  std::ofstream(path("deep.json"), std::ios::trunc) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("deep.json")); }, {"deep.json", "material depth", "at cell"});
+  meta["vertical_scale_m"] = 1e-6;
+  meta["z_offset_m"] = -1.0;  // below the base: no material column is negative
+  std::ofstream(path("deep.json"), std::ios::trunc) << meta.dump();
+  expect_error_mentions([&] { read_heightmap(path("deep.json")); }, {"deep.json", "'z_offset_m'", "material depth"});
 }
 
 TEST_F(HeightmapFiles, FailedWriteLeavesNoHalfWrittenFile) {

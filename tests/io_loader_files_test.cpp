@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "io/loader_files.h"
 #include "vehicle/cylinder_geometry.h"
 
@@ -187,6 +188,115 @@ TEST_F(BrokenLoader, UnknownBucketChildAndBadFillingAreRejected) {
 TEST_F(BrokenLoader, FillingParameterOutOfRangeIsRejected) {
   replace("skidsteer.params.xml", "spreading_eps=\"0.4\"", "spreading_eps=\"0.7\"");
   expect_error({"skidsteer.params.xml:", "<filling>", "spreading_eps", "out of range"});
+}
+
+// Cylinder geometry that cannot move its joint is refused with the file,
+// the line and the element, instead of passing `check` with a 0 s lift.
+TEST_F(BrokenLoader, CylinderPinsOnTheAxisOrCoincidentAreRefused) {
+  // The same coordinates for both pins: the child pin sits on the joint's
+  // axis, so the length never changes.
+  replace("skidsteer.params.xml", "parent_pin=\"-0.70 0 -0.20\" child_pin=\"0.1197 0 -0.4563\"",
+          "parent_pin=\"0 0 0\" child_pin=\"0 0 0\"");
+  expect_error({"skidsteer.params.xml:27:", "<cylinder>", "'lift'", "child_pin", "axis of joint 'lift_arm_joint'"});
+}
+
+TEST_F(BrokenLoader, CylinderPinsThatMeetAreRefused) {
+  // The parent pin where the child pin is with the arm lowered: 0 m apart.
+  replace("skidsteer.params.xml", "parent_pin=\"-0.70 0 -0.20\"", "parent_pin=\"-0.1583 0 0.5887\"");
+  expect_error({"skidsteer.params.xml:27:", "<cylinder>", "'lift'", "coincide"});
+}
+
+TEST_F(BrokenLoader, CylinderWithoutAMomentArmIsRefused) {
+  // A child pin 1.5 cm off the axis: past the axis check, but its moment
+  // arm (at most 1.5 cm) falls under a centimetre or turns over.
+  replace("skidsteer.params.xml", "child_pin=\"0.1197 0 -0.4563\"", "child_pin=\"0.015 0 0\"");
+  try {
+    load_loader(path("skidsteer.params.xml"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("skidsteer.params.xml:27: <cylinder>"), std::string::npos) << msg;
+    EXPECT_TRUE(msg.find("moment arm") != std::string::npos || msg.find("dead centre") != std::string::npos ||
+                msg.find("moves only") != std::string::npos)
+        << msg;
+  }
+}
+
+// Every number of the URDF, checked in its text before urdfdom reads it
+// (urdfdom hands back what it cannot parse as 0): the message names the
+// URDF, the line, the link or joint, the element and the attribute.
+TEST_F(BrokenLoader, UrdfNumbersAreCheckedWhereTheyEnter) {
+  struct Case {
+    const char* from;
+    const char* to;
+    std::vector<std::string> says;
+  };
+  const std::vector<Case> cases = {
+      {"<mass value=\"450\"/>", "<mass value=\"nan\"/>", {"link 'lift_arm'", "<mass>", "'value'", "\"nan\""}},
+      {"<mass value=\"450\"/>", "<mass value=\"1e308\"/>", {"link 'lift_arm'", "<mass>", "out of range"}},
+      {"<mass value=\"1900\"/>", "<mass value=\"-1e308\"/>", {"link 'chassis'", "<mass>", "out of range"}},
+      {"<mass value=\"450\"/>", "<mass value=\"450 \"/>", {"link 'lift_arm'", "<mass>", "'value'"}},
+      {"<mass value=\"450\"/>", "<mass value=\"0x1c2\"/>", {"link 'lift_arm'", "<mass>", "decimal"}},
+      {"ixx=\"716\"", "ixx=\"inf\"", {"link 'chassis'", "<inertia>", "'ixx'"}},
+      {"iyy=\"115\"", "iyy=\"1e308\"", {"link 'lift_arm'", "<inertia>", "'iyy'", "out of range"}},
+      {"<origin xyz=\"-0.58 0 0.15\" rpy=\"0 0 0\"/>", "<origin xyz=\"-0.58 0 1e308\" rpy=\"0 0 0\"/>",
+       {"link 'chassis'", "<inertial><origin>", "'xyz'"}},
+      {"<origin xyz=\"0.624 0 -0.588\" rpy=\"0 0.7557 0\"/>", "<origin xyz=\"0.624 0 -0.588\" rpy=\"0 NaN 0\"/>",
+       {"link 'lift_arm'", "'rpy'", "NaN"}},
+      {"<limit lower=\"0\" upper=\"1.6581\"", "<limit lower=\"0\" upper=\"1e308\"",
+       {"joint 'lift_arm_joint'", "<limit>", "'upper'"}},
+      {"<axis xyz=\"0 -1 0\"/>", "<axis xyz=\"0 -nan 0\"/>", {"joint 'lift_arm_joint'", "<axis>", "'xyz'"}},
+      {"<origin xyz=\"1.248 0 -1.175\" rpy=\"0 0 0\"/>", "<origin xyz=\"1.248 0 -1e400\" rpy=\"0 0 0\"/>",
+       {"joint 'bucket_joint'", "<origin>", "'xyz'"}},
+      {"<box size=\"0.87 1.70 0.50\"/>", "<box size=\"0.87 1e308 0.50\"/>",
+       {"link 'bucket'", "<collision><geometry><box>", "'size'"}},
+      {"<cylinder radius=\"0.41\" length=\"0.26\"/>", "<cylinder radius=\"nan\" length=\"0.26\"/>",
+       {"link 'wheel_fl'", "<cylinder>", "'radius'"}},
+      {"<limit lower=\"0\" upper=\"1.6581\" effort=\"40000\"", "<limit lower=\"0\" upper=\"1.6581\" effort=\"-1\"",
+       {"joint 'lift_arm_joint'", "'effort'"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.to);
+    fs::remove_all(dir_);
+    SetUp();
+    replace("skidsteer.urdf", c.from, c.to);
+    std::vector<std::string> says = c.says;
+    says.push_back("skidsteer.urdf:");
+    expect_error(says);
+  }
+}
+
+// A huge mass on a wheel is blamed on the wheel's link, not on the tyres.
+TEST_F(BrokenLoader, WheelMassIsNamedOnItsLink) {
+  replace("skidsteer.urdf", "<link name=\"wheel_rr\">",
+          "<link name=\"wheel_rr\">\n    <inertial><mass value=\"1e308\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" "
+          "iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial>");
+  try {
+    load_loader(path("skidsteer.params.xml"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("link 'wheel_rr' <inertial><mass>"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("tyre"), std::string::npos) << msg;
+  }
+}
+
+// Meshes are checked as files before assimp reads them, and their vertices
+// after: finite and within the loader's extent.
+TEST_F(BrokenLoader, MeshesAreCheckedAsFilesAndByExtent) {
+  fs::remove(path("meshes/bucket.obj"));
+  fs::create_directories(path("meshes/bucket.obj"));
+  expect_error({"skidsteer.urdf:", "link 'bucket'", "bucket.obj", "directory"});
+  fs::remove_all(path("meshes/bucket.obj"));
+  {  // a sparse file past the mesh cap: refused by its size, unread
+    std::ofstream(path("meshes/bucket.obj")) << "v 0 0 0\n";
+    fs::resize_file(path("meshes/bucket.obj"), kMaxMeshBytes + 1);
+    expect_error({"skidsteer.urdf:", "link 'bucket'", "bucket.obj", "more than"});
+  }
+  std::ofstream(path("meshes/bucket.obj"), std::ios::trunc) << "v 0 0 0\nv 1 0 0\nv 0 1e6 0\nf 1 2 3\n";
+  expect_error({"skidsteer.urdf:", "link 'bucket'", "bucket.obj", "beyond"});
+  std::ofstream(path("meshes/bucket.obj"), std::ios::trunc) << "v 0 0 0\nv 1 0 0\nv 0 1e39 0\nf 1 2 3\n";
+  expect_error({"skidsteer.urdf:", "link 'bucket'", "bucket.obj"});
 }
 
 TEST_F(BrokenLoader, MissingUrdfAndMissingParametersAreReported) {
