@@ -26,11 +26,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // From memory: the same verdict.
   const std::string bytes(reinterpret_cast<const char*>(data), size);
   bool loaded_from_memory = false;
+  std::uint64_t events_from_memory = 0;
   try {
-    loaded_from_memory = io::parse_lcm_log(bytes, path, keep_all).event_count == log.event_count;
+    events_from_memory = io::parse_lcm_log(bytes, path, keep_all).event_count;
+    loaded_from_memory = true;
   } catch (const io::InputError&) {
   }
-  if (loaded != loaded_from_memory) std::abort();
+  if (loaded != loaded_from_memory || events_from_memory != log.event_count) std::abort();
   if (!loaded) return 0;
   if (log.size_bytes != size || log.kept.size() != log.event_count || log.kept.empty()) std::abort();
   std::int64_t last_time = 0;
