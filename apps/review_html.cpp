@@ -136,8 +136,18 @@ function show(t) {
   $("time").textContent = t.toFixed(2) + " s";
   if (frame_set && frame_set.frames > 0) {
     const k = Math.min(frame_set.frames - 1, Math.floor(t * frame_set.fps + 1e-6));
-    const src = frame_set.dir + "/frame_" + String(k).padStart(6, "0") + ".png";
-    if ($("frame").getAttribute("src") !== src) $("frame").setAttribute("src", src);
+    const name = "frame_" + String(k).padStart(6, "0") + ".png";
+    const src = frame_set.dir + "/" + name;
+    // A frame the set lacks is said to be missing, not left as a broken image.
+    const gone = (frame_set.missing || []).some((r) => k >= r[0] && k <= r[1]);
+    if (gone) {
+      $("frame").removeAttribute("src");
+      $("frame").alt = name + " is missing";
+    } else if ($("frame").getAttribute("src") !== src) {
+      $("frame").setAttribute("src", src);
+      $("frame").alt = "recorded frame";
+    }
+    $("frame_note").textContent = gone ? frame_set.dir + "/" + name + " is missing" : "";
     document.body.dataset.frame = k;
   }
   const x = x_of(t).toFixed(1);
@@ -195,6 +205,14 @@ function start() {
     pick.appendChild(o);
   });
   pick.addEventListener("change", () => { frame_set = DATA.frame_sets[Number(pick.value)]; show(Number(s.value)); });
+  for (const f of DATA.frame_sets) {  // every set's missing frames, said once at the top
+    if (!f.missing.length) continue;
+    const li = document.createElement("li");
+    const n = f.missing.reduce((sum, r) => sum + r[1] - r[0] + 1, 0);
+    li.textContent = f.dir + "/: " + n + " of " + f.frames + " frames missing (" +
+        f.missing.map((r) => r[0] === r[1] ? String(r[0]) : r[0] + "-" + r[1]).join(", ") + ")";
+    $("missing").appendChild(li);
+  }
   if (!frame_set) $("frame").replaceWith(Object.assign(document.createElement("p"), {textContent: "No frames were recorded (skidsim run --record)."}));
   $("play").addEventListener("click", play);
   document.addEventListener("keydown", (e) => {
@@ -226,7 +244,7 @@ svg text { font-size: 10px; fill: #555; }
 table { border-collapse: collapse; font-size: 13px; } td, th { border: 1px solid #ddd; padding: 2px 6px; text-align: left; }
 #events tr { cursor: pointer; color: #888; } #events tr.past { color: #222; } #events tr.current { background: #fde9a9; }
 #events tr.sev1 td:nth-child(2) { color: #b60; } #events tr.sev2 td:nth-child(2) { color: #c00; font-weight: bold; }
-#errors { color: #c00; }
+#errors { color: #c00; } .warn { color: #b60; }
 )CSS";
 
 }  // namespace
@@ -263,7 +281,11 @@ std::string render_review_html(const json& report, const std::vector<FrameSet>& 
   data["frame_sets"] = json::array();
   for (const FrameSet& f : frame_sets)
     if (f.frames > 0 && f.fps > 0.0)
-      data["frame_sets"].push_back({{"label", f.label}, {"dir", f.dir}, {"fps", f.fps}, {"frames", f.frames}});
+    {
+      json missing = json::array();
+      for (const auto& [first, last] : f.missing) missing.push_back({first, last});
+      data["frame_sets"].push_back({{"label", f.label}, {"dir", f.dir}, {"fps", f.fps}, {"frames", f.frames}, {"missing", missing}});
+    }
   // No '<' at all inside the script element ("</script>", "<!--" would
   // change how the HTML parser reads it): JSON has it only in strings,
   // where \u003c means the same.
@@ -276,7 +298,8 @@ std::string render_review_html(const json& report, const std::vector<FrameSet>& 
   html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>skidsim review</title><style>";
   html += kStyle;
   html += "</style></head>\n<body>\n<h1 id=\"title\"></h1>\n<p id=\"verdict\"></p>\n<ul id=\"errors\"></ul>\n";
-  html += "<div id=\"viewer\"><div><img id=\"frame\" alt=\"recorded frame\">\n";
+  html += "<ul id=\"missing\" class=\"warn\"></ul>\n";
+  html += "<div id=\"viewer\"><div><img id=\"frame\" alt=\"recorded frame\"><p id=\"frame_note\" class=\"warn\"></p>\n";
   html += "<div id=\"controls\"><button id=\"play\">play</button><input id=\"scrub\" type=\"range\" min=\"0\" value=\"0\">"
           "<span id=\"time\"></span><select id=\"speed\"><option value=\"0.5\">0.5x</option>"
           "<option value=\"1\" selected>1x</option><option value=\"4\">4x</option></select>"

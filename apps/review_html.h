@@ -13,6 +13,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace skidsim::apps {
@@ -22,7 +23,8 @@ struct FrameSet {
   std::string label;  // "chase, 10 fps"
   std::string dir;    // relative to the run directory
   double fps = 10.0;
-  int frames = 0;
+  int frames = 0;     // frames 0 .. frames - 1 belong to the set
+  std::vector<std::pair<int, int>> missing;  // runs of frames it lacks (first, last): shown as missing
 };
 
 // Never throws on missing or mistyped keys of the report.

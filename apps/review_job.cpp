@@ -53,31 +53,101 @@ std::string fps_text(double fps) {
   return buf;
 }
 
-// The frames of a set, in order: frame_000000.png, ... while they exist.
-std::vector<std::string> frame_files(const fs::path& dir) {
-  std::vector<std::string> out;
-  for (int k = 0;; ++k) {
+// The frames of a set: frame_000000.png, frame_000001.png, ... as the
+// recorder names them, frame k taken at k / fps. Every one there is found
+// (the folder is listed, not probed until the first gap), and a frame the
+// set should have but lacks (lost in a copy, deleted by hand) is named:
+// the set has as many frames as the recorder wrote (`recorded`, from
+// report.json or frames.json; -1: not known) or up to the last one found.
+struct FrameScan {
+  std::vector<std::string> paths;              // the frames there, in order
+  int slots = 0;                               // frames 0 .. slots - 1 belong to the set
+  std::vector<std::pair<int, int>> missing;    // first and last of each run of missing frames
+  int missing_count = 0;
+};
+
+FrameScan scan_frames(const fs::path& dir, double recorded) {
+  constexpr int kMaxFrames = 1000000;  // frame_%06d: six digits
+  FrameScan scan;
+  std::vector<int> found;
+  std::error_code ec;
+  if (fs::is_directory(dir, ec))
+    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      if (name.size() != 16 || name.compare(0, 6, "frame_") != 0 || name.compare(12, 4, ".png") != 0) continue;
+      if (!std::all_of(name.begin() + 6, name.begin() + 12, [](char c) { return c >= '0' && c <= '9'; })) continue;
+      found.push_back(std::stoi(name.substr(6, 6)));
+    }
+  std::sort(found.begin(), found.end());
+  scan.slots = found.empty() ? 0 : found.back() + 1;
+  if (recorded >= 1.0 && recorded <= kMaxFrames && recorded == std::floor(recorded))
+    scan.slots = std::max(scan.slots, static_cast<int>(recorded));
+  int next = 0;  // the first frame not yet accounted for
+  const auto gap_until = [&](int k) {
+    if (k > next) {
+      scan.missing.emplace_back(next, k - 1);
+      scan.missing_count += k - next;
+    }
+  };
+  for (const int k : found) {
+    gap_until(k);
     char name[32];
     std::snprintf(name, sizeof name, "frame_%06d.png", k);
-    if (!fs::exists(dir / name)) break;
-    out.push_back((dir / name).string());
+    scan.paths.push_back((dir / name).string());
+    next = k + 1;
   }
-  return out;
+  gap_until(scan.slots);
+  return scan;
+}
+
+// "frame_000012.png to frame_000013.png, frame_000040.png"
+std::string missing_text(const std::vector<std::pair<int, int>>& missing) {
+  std::string text;
+  for (std::size_t k = 0; k < missing.size() && k < 8; ++k) {
+    char a[32], b[32];
+    std::snprintf(a, sizeof a, "frame_%06d.png", missing[k].first);
+    std::snprintf(b, sizeof b, "frame_%06d.png", missing[k].second);
+    text += (k ? ", " : "") + std::string(a) + (missing[k].second > missing[k].first ? " to " + std::string(b) : "");
+  }
+  if (missing.size() > 8) text += " and " + std::to_string(missing.size() - 8) + " more gaps";
+  return text;
+}
+
+// A set as the page shows it, and its frames for the contact sheet. A set
+// with frames missing is shown (the report, the plots and the frames there
+// are still the session's; the lost ones can be rendered again from the
+// log with --camera / --fps), and the gap is said on stderr, in the page
+// under the frame and in the set's label, never skipped over.
+struct FoundSet {
+  FrameSet set;
+  std::vector<std::string> paths;
+};
+
+void add_set(std::vector<FoundSet>& sets, const fs::path& run, FrameSet f, double recorded) {
+  FrameScan scan = scan_frames(run / f.dir, recorded);
+  f.frames = scan.slots;
+  f.missing = scan.missing;
+  if (scan.missing_count > 0) {
+    f.label += " (" + std::to_string(scan.missing_count) + " frames missing)";
+    std::cerr << "skidsim review: " << (run / f.dir).string() << ": " << scan.missing_count << " of " << scan.slots
+              << " frames missing (" << missing_text(scan.missing)
+              << "); the page shows them as missing (re-render with --camera or --fps to have them again)\n";
+  }
+  if (!scan.paths.empty()) sets.push_back({f, std::move(scan.paths)});
 }
 
 // The run's own recording (report.json "recording") and every re-render
 // (a frames_* folder with its frames.json).
-std::vector<FrameSet> find_frame_sets(const fs::path& run, const json& report) {
-  std::vector<FrameSet> sets;
+std::vector<FoundSet> find_frame_sets(const fs::path& run, const json& report) {
+  std::vector<FoundSet> sets;
   const json recording = report.is_object() && report.contains("recording") ? report["recording"] : json();
   const double recorded_fps = number_at(recording, "fps", 0.0);
   if (recorded_fps >= 0.1 && recorded_fps <= 1000.0) {
     FrameSet f;
     f.dir = "frames";
     f.fps = recorded_fps;
-    f.frames = static_cast<int>(frame_files(run / f.dir).size());
     f.label = text_at(recording, "camera", "recorded") + ", " + fps_text(f.fps) + " fps";
-    if (f.frames > 0) sets.push_back(f);
+    add_set(sets, run, f, number_at(recording, "frames", -1.0));
   }
   std::vector<fs::path> extra;
   for (const fs::directory_entry& e : fs::directory_iterator(run))
@@ -91,9 +161,8 @@ std::vector<FrameSet> find_frame_sets(const fs::path& run, const json& report) {
     f.fps = number_at(meta, "fps", 0.0);
     if (!(f.fps >= 0.1 && f.fps <= 1000.0))
       throw io::InputError((dir / "frames.json").string() + ": 'fps' must be a number of frames a second (0.1 to 1000)");
-    f.frames = static_cast<int>(frame_files(dir).size());
     f.label = text_at(meta, "camera", "?") + ", " + fps_text(f.fps) + " fps (re-rendered)";
-    if (f.frames > 0) sets.push_back(f);
+    add_set(sets, run, f, number_at(meta, "frames", -1.0));
   }
   return sets;
 }
@@ -174,22 +243,30 @@ int review_session(const ReviewJob& job) {
     const int code = rerender(job, run, report, &rendered);
     if (code != 0) return code;
   }
-  const std::vector<FrameSet> sets = find_frame_sets(run, report);
+  const std::vector<FoundSet> found = find_frame_sets(run, report);
+  std::vector<FrameSet> sets;
+  int missing = 0;
+  for (const FoundSet& f : found) {
+    sets.push_back(f.set);
+    for (const auto& [first, last] : f.set.missing) missing += last - first + 1;
+  }
   // The sheet of the frames just rendered, else the run's own recording;
   // made before anything is written, so a bad frame leaves both files as
   // they were.
-  const FrameSet* shown = sets.empty() ? nullptr : &sets.front();
-  for (const FrameSet& f : sets)
-    if (f.dir == rendered) shown = &f;
+  const FoundSet* shown = found.empty() ? nullptr : &found.front();
+  for (const FoundSet& f : found)
+    if (f.set.dir == rendered) shown = &f;
   io::RgbImage sheet;
-  if (shown) sheet = contact_sheet(frame_files(run / shown->dir));
+  if (shown) sheet = contact_sheet(shown->paths);
   io::write_text_atomically((run / "review.html").string(), render_review_html(report, sets));
   std::cout << "wrote " << (run / "review.html").string();
   if (shown) {
     io::write_png_rgb8((run / "contact_sheet.png").string(), sheet);
-    std::cout << " and " << (run / "contact_sheet.png").string() << " (" << shown->label << ")";
+    std::cout << " and " << (run / "contact_sheet.png").string() << " (" << shown->set.label << ")";
   }
-  std::cout << "; " << sets.size() << " recording(s)\n";
+  std::cout << "; " << sets.size() << " recording(s)";
+  if (missing > 0) std::cout << ", " << missing << " frame(s) missing (see above)";
+  std::cout << "\n";
   return 0;
 }
 

@@ -22,6 +22,7 @@
 #include "apps/report_html.h"
 #include "apps/run_directory.h"
 #include "apps/scene_snapshot.h"
+#include "apps/session_replay.h"
 #include "apps/session_tasks.h"
 #include "apps/session_world.h"
 #include "apps/terrain_tiles.h"
@@ -124,6 +125,7 @@ int run_session(const RunJob& job) {
   const io::Exercise ex = io::load_exercise(job.exercise_path);
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
+  const SessionIdentity identity = session_identity(ex, loader, io::default_soil_table_path());  // the log's header
   const std::string script_path =
       !job.script_path.empty() ? job.script_path
                                : (ex.operator_source.kind == io::OperatorSource::Kind::kScript ? ex.operator_source.script : "");
@@ -131,52 +133,14 @@ int run_session(const RunJob& job) {
   // A replay: the controls a recorded session applied, by control tick.
   std::vector<vehicle::LoaderControls> replay;
   const bool replaying = !job.replay_path.empty();
-  long replay_end_step = -1;  // from the recording's "end" event (-1: run its controls out)
+  long replay_end_step = -1;  // from the recording's "end" event
   if (replaying) {
-    lcm::LogFile recorded(job.replay_path, "r");
-    if (!recorded.good()) throw io::InputError(job.replay_path + ": cannot read the LCM log");
-    off_t last_good_end = 0;
-    while (const lcm::LogEvent* e = recorded.readNextEvent()) {
-      last_good_end = ftello(recorded.getFilePtr());
-      if (e->channel == "SKIDSIM_EVENTS") {  // the session's end: the step it stopped at
-        skidsim_lcm::event_t end{};
-        if (end.decode(e->data, 0, e->datalen) >= 0 && end.kind == "end") replay_end_step = end.step;
-        continue;
-      }
-      if (e->channel != ex.operator_source.channel + "_APPLIED") continue;
-      skidsim_lcm::control_t m{};
-      if (m.decode(e->data, 0, e->datalen) < 0 || m.sim_step < 0 || m.sim_step % kStepsPerTick != 0)
-        throw io::InputError(job.replay_path + ": a malformed applied-control message at " +
-                             std::to_string(e->timestamp) + " us");
-      const auto tick = static_cast<std::size_t>(m.sim_step / kStepsPerTick);
-      if (tick != replay.size())
-        throw io::InputError(job.replay_path + ": applied controls are not one per tick from the start (tick " +
-                             std::to_string(tick) + ")");
-      // A recording holds only accepted controls: anything else is a damaged log.
-      const double levers[] = {m.drive_left, m.drive_right, m.lift, m.tilt};
-      bool valid = std::isfinite(m.throttle) && m.throttle >= 0.0 && m.throttle <= 1.0;
-      for (double v : levers) valid = valid && std::isfinite(v) && std::abs(v) <= 1.0;
-      if (!valid)
-        throw io::InputError(job.replay_path + ": an applied control out of range or not finite at " +
-                             std::to_string(e->timestamp) + " us (tick " + std::to_string(tick) + ")");
-      vehicle::LoaderControls c;
-      c.drive_left = m.drive_left;
-      c.drive_right = m.drive_right;
-      c.lift = m.lift;
-      c.tilt = m.tilt;
-      c.throttle = m.throttle;
-      c.parking_brake = m.parking_brake;
-      replay.push_back(c);
-    }
-    if (replay.empty()) throw io::InputError(job.replay_path + ": no applied controls on " + ex.operator_source.channel + "_APPLIED");
-    // LCM stops quietly at a cut or corrupt event: whatever follows the last
-    // whole one would be lost from the replay.
-    const auto size = static_cast<off_t>(std::filesystem::file_size(job.replay_path));
-    if (last_good_end < size)
-      throw io::InputError(job.replay_path + ": the log is truncated or corrupt at byte " +
-                           std::to_string(static_cast<long long>(last_good_end)) + " of " +
-                           std::to_string(static_cast<long long>(size)));
     if (!script_path.empty() && !job.script_path.empty()) throw io::InputError("--replay and --script: give one");
+    // The whole log checked, and its header against this exercise, before
+    // anything runs (apps/session_replay.h).
+    Replay recorded = load_replay(job.replay_path, ex, identity, kStepsPerTick);
+    replay = std::move(recorded.controls);
+    replay_end_step = recorded.end_step;
   }
   if (!script_path.empty() && !replaying) player = std::make_unique<OperatorPlayer>(io::load_operator_script(script_path));
   const std::string mode = !job.mode.empty() ? job.mode : ((player || replaying) ? "fast" : "realtime");
@@ -208,6 +172,7 @@ int run_session(const RunJob& job) {
   auto log_file = std::make_unique<lcm::LogFile>(log_path, "w");
   if (!log_file->good()) throw io::InputError("cannot write the LCM log " + log_path);
   lcm::LogFile& log = *log_file;
+  write_session_header(log, identity);  // the first event: which exercise this log belongs to
   if (bridge) bridge->record_controls_to(&log);
 
   // The optional terrain channel: every tile at the start, then those that

@@ -1,7 +1,9 @@
 // Writes the binary seeds (scripts/fuzz.sh): encoded control_t messages into
-// argv[1], a small session log (controls on SKIDSIM_CONTROL_APPLIED, a state
-// message between) into argv[2], and a height map's JSON and PNG (each behind
-// the heightmap harness's selector byte) into argv[3].
+// argv[1]; into argv[2] a small session log shaped like skidsim's own
+// (apps/session_replay.h): its SKIDSIM_SESSION header first, controls on
+// SKIDSIM_CONTROL_APPLIED with a state message between, and the "end" event
+// last; and a height map's JSON and PNG (each behind the heightmap harness's
+// selector byte) into argv[3].
 #include <cstdio>
 #include <unistd.h>
 #include <utility>
@@ -14,6 +16,7 @@
 
 #include "io/heightmap.h"
 #include "skidsim_lcm/control_t.hpp"
+#include "skidsim_lcm/event_t.hpp"
 
 namespace {
 
@@ -79,15 +82,32 @@ int main(int argc, char** argv) {
 
   lcm::LogFile log((fs::path(argv[2]) / "session.lcmlog").string(), "w");
   if (!log.good()) return 1;
-  for (int k = 0; k < 5; ++k) {
-    std::vector<unsigned char> b = k == 2 ? std::vector<unsigned char>(24, 7) : encoded(command(k));
+  const auto write = [&log](const std::string& channel, std::int64_t timestamp_us, std::vector<unsigned char> b) {
     lcm::LogEvent e;
-    e.eventnum = k;
-    e.timestamp = 10000 * k;
-    e.channel = k == 2 ? "SKIDSIM_STATE" : "SKIDSIM_CONTROL_APPLIED";
+    e.eventnum = 0;  // liblcm numbers them
+    e.timestamp = timestamp_us;
+    e.channel = channel;
     e.datalen = static_cast<int>(b.size());
     e.data = b.data();
-    if (log.writeEvent(&e) != 0) return 1;
+    return log.writeEvent(&e) == 0;
+  };
+  const std::string header =
+      R"({"format":"skidsim-session","version":1,"exercise":"pile-to-zone","files":[)"
+      R"({"role":"exercise","file":"pile_to_zone.xml","fnv1a64":"0123456789abcdef"}]})";
+  if (!write("SKIDSIM_SESSION", 0, std::vector<unsigned char>(header.begin(), header.end()))) return 1;
+  for (int k = 0; k < 5; ++k) {
+    const bool state = k == 2;
+    if (!write(state ? "SKIDSIM_STATE" : "SKIDSIM_CONTROL_APPLIED", 10000 * k,
+               state ? std::vector<unsigned char>(24, 7) : encoded(command(k))))
+      return 1;
   }
+  skidsim_lcm::event_t end{};
+  end.step = 20;
+  end.sim_time_s = 0.04;
+  end.kind = "end";
+  end.text = "session ended: time_limit";
+  std::vector<unsigned char> b(static_cast<std::size_t>(end.getEncodedSize()));
+  end.encode(b.data(), 0, static_cast<int>(b.size()));
+  if (!write("SKIDSIM_EVENTS", 40000, b)) return 1;
   return 0;
 }

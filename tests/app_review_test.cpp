@@ -150,6 +150,43 @@ TEST(SkidsimReview, PageWorksInABrowserAndReRendersFromAnotherCamera) {
   EXPECT_FALSE(fs::exists(run / "frames_cab_2fps"));
 }
 
+// Frames lost from a recording (a copy that failed, a frame deleted by
+// hand): review still writes the page, and says which frames are missing,
+// on stderr, in its summary line and on the page (the frames after the gap,
+// and those the recorder wrote past the last one found, are not dropped).
+TEST(SkidsimReview, MissingFramesAreNamedNotDropped) {
+  const fs::path run = fs::temp_directory_path() / "skidsim_review_gaps";
+  fs::remove_all(run);
+  ASSERT_EQ(run_skidsim("run " + kScenario + " --script " + kScript +
+                        " --max-s 2 --record --frame-width 64 --frame-height 36 --render-backend osmesa --out " + run.string())
+                .exit_code,
+            0);
+  ASSERT_TRUE(fs::exists(run / "frames" / "frame_000019.png"));
+  for (const char* lost : {"frame_000003.png", "frame_000004.png", "frame_000019.png"}) fs::remove(run / "frames" / lost);
+  const auto r = run_skidsim("review " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("frames: 3 of 20 frames missing (frame_000003.png to frame_000004.png, frame_000019.png)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("1 recording(s), 3 frame(s) missing"), std::string::npos) << r.output;
+  const std::string html = slurp(run / "review.html");
+  EXPECT_NE(html.find("\"frames\":20"), std::string::npos) << "frame k stays at k / fps";
+  EXPECT_NE(html.find("\"missing\":[[3,4],[19,19]]"), std::string::npos);
+  EXPECT_NE(html.find("(3 frames missing)"), std::string::npos) << "in the set's label";
+  // In a browser (when there is one): the gap is said under the frame.
+  const std::string browser = chromium();
+  if (browser.empty()) return;
+  const fs::path work = fs::temp_directory_path() / "skidsim_review_gaps_browser";
+  fs::remove_all(work);
+  fs::create_directories(work);
+  const Page gap = open_page(browser, run / "review.html", "#t=0.35", work);
+  EXPECT_NE(gap.dom.find("<ul id=\"errors\"></ul>"), std::string::npos) << gap.dom;
+  EXPECT_NE(gap.dom.find("frames/frame_000003.png is missing"), std::string::npos) << gap.dom;
+  EXPECT_NE(gap.dom.find("frames/: 3 of 20 frames missing (3-4, 19)"), std::string::npos) << gap.dom;
+  const Page after = open_page(browser, run / "review.html", "#t=0.55", work);
+  EXPECT_EQ(attribute(after.dom, "id=\"frame\"[^>]*src=\"([^\"]+)\""), "frames/frame_000005.png");
+}
+
 TEST(SkidsimReview, BadRunDirectoriesAndCamerasAreRefused) {
   const fs::path none = fs::temp_directory_path() / "skidsim_review_none";
   fs::remove_all(none);

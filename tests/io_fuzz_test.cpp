@@ -37,6 +37,7 @@
 #include "io/control_input.h"
 #include "io/exercise.h"
 #include "io/lcm_bridge.h"
+#include "io/lcm_log.h"
 #include "io/loader_files.h"
 #include "io/operator_script.h"
 #include "io/soil_table.h"
@@ -639,11 +640,27 @@ TEST(LcmLogFuzz, TruncatedAndGarbledLogsReadOnlyWholeEvents) {
     }));
     ASSERT_EQ(back.size(), whole) << "cut at byte " << at;
     for (size_t k = 0; k < back.size(); ++k) ASSERT_TRUE(same(back[k], written[k])) << "cut at " << at << ", event " << k;
+    // The checked reader (io/lcm_log.h, what a replay reads with) takes a
+    // cut only at an event's end, and names the byte of any other.
+    const bool at_an_end = at > 0 && std::find(ends.begin(), ends.end(), static_cast<std::int64_t>(at)) != ends.end();
+    std::uint64_t checked_events = 0;
+    std::string why;
+    try {
+      checked_events = read_lcm_log(cut, nullptr).event_count;
+    } catch (const InputError& e) {
+      why = e.what();
+    }
+    ASSERT_EQ(why.empty(), at_an_end) << "cut at " << at << ": " << why;
+    if (at_an_end) {
+      ASSERT_EQ(checked_events, whole);
+    } else {
+      ASSERT_NE(why.find(cut + ": byte "), std::string::npos) << why;
+    }
   }
   // Garbled: bytes flipped, then cut. No crash; what decodes on the applied
   // channel is a whole control_t or is refused by decode.
   std::mt19937_64 rng(fuzz_seed() ^ 7);
-  int events = 0, decoded = 0, refused = 0;
+  int events = 0, decoded = 0, refused = 0, checked_whole = 0, checked_refused = 0;
   const QuietStderr quiet;  // LCM says why it stops reading each one
   for (int i = 0; i < iterations(1500); ++i) {
     std::string garbled = bytes;
@@ -651,6 +668,15 @@ TEST(LcmLogFuzz, TruncatedAndGarbledLogsReadOnlyWholeEvents) {
       garbled[rng() % garbled.size()] = static_cast<char>(rng() % 256);
     if (rng() % 2) garbled.resize(rng() % (garbled.size() + 1));
     write_text(cut, garbled);
+    // The checked reader: whole, or refused naming the file and the byte.
+    try {
+      const LcmLog checked = read_lcm_log(cut, [](const std::string&) { return true; });
+      ++checked_whole;
+      for (const LcmLogEvent& e : checked.kept) ASSERT_LE(e.data_offset_bytes + e.data.size(), garbled.size());
+    } catch (const InputError& e) {
+      ++checked_refused;
+      ASSERT_NE(std::string(e.what()).find(cut + ": byte "), std::string::npos) << e.what();
+    }
     for (const LoggedEvent& e : read_log(cut)) {
       ++events;
       if (e.channel != "SKIDSIM_CONTROL_APPLIED") continue;
@@ -658,8 +684,9 @@ TEST(LcmLogFuzz, TruncatedAndGarbledLogsReadOnlyWholeEvents) {
       (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) < 0 ? refused : decoded)++;
     }
   }
-  std::printf("[ fuzz     ] lcm log: %zu cuts, %d garbled logs (%d events read: %d controls decoded, %d refused)\n",
-              bytes.size(), iterations(1500), events, decoded, refused);
+  std::printf("[ fuzz     ] lcm log: %zu cuts, %d garbled logs (%d events read: %d controls decoded, %d refused; "
+              "the checked reader: %d whole, %d refused naming the byte)\n",
+              bytes.size(), iterations(1500), events, decoded, refused, checked_whole, checked_refused);
   fs::remove_all(dir);
 }
 
