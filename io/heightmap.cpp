@@ -282,7 +282,15 @@ Heightmap read_heightmap(const std::string& json_path) {
   if (image.empty()) bad_field(json_path, "image", meta.at("image"), "names no file");
 
   const std::string png_path = image[0] == '/' ? image : dir_of(json_path) + "/" + image;
-  const std::vector<std::uint16_t> pixels = read_png16(png_path, json_path, map.nx, map.ny);
+  // The image's errors name the metadata that names it too: the user opened that file.
+  std::vector<std::uint16_t> pixels;
+  try {
+    pixels = read_png16(png_path, json_path, map.nx, map.ny);
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    if (what.find(json_path) != std::string::npos) throw;
+    throw InputError(json_path + ": field 'image' = \"" + shown(image) + "\": " + what);
+  }
   map.height_m.resize(pixels.size());
   for (int j = 0; j < map.ny; ++j) {
     const int row = map.ny - 1 - j;
