@@ -129,6 +129,13 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
   EXPECT_GE(report["result"]["score"].get<double>(), report["result"]["pass_score"].get<double>());
   EXPECT_TRUE(report["result"]["script_phases_timed_out"].empty()) << report["result"].dump();
   EXPECT_TRUE(report["machine_finite"].get<bool>());
+  // The recorded final state (tests/data/final_state_hashes.txt): a
+  // refactoring changes no session.
+  std::ifstream recorded(std::string(SKIDSIM_SOURCE_DIR) + "/tests/data/final_state_hashes.txt");
+  std::string line, expected_hash;
+  while (std::getline(recorded, line))
+    if (line.rfind(std::string(sc.name) + " ", 0) == 0) expected_hash = line.substr(line.find(' ') + 1);
+  EXPECT_EQ(report["final_state_hash"], expected_hash) << sc.name << ": see tests/data/final_state_hashes.txt";
   EXPECT_EQ(fs::exists(dir / "terrain_surface.png"), sc.has_soil) << "a terrain only where there is soil";
   // The timeline: equal columns at 5 Hz over the session.
   const auto& tl = report["timeline"];
