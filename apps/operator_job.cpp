@@ -7,7 +7,7 @@
 #include <chrono>
 #include <iostream>
 
-#include "apps/operator_player.h"
+#include "session/operator_player.h"
 #include "io/atomic_file.h"
 #include "io/lcm_bridge.h"
 #include "skidsim_lcm/control_t.hpp"

@@ -15,9 +15,9 @@
 #include <thread>
 #include <vector>
 
-#include "apps/perf_report_parts.h"
-#include "apps/pour_job.h"
-#include "apps/push_job.h"
+#include "report/perf_report_parts.h"
+#include "jobs/pour_job.h"
+#include "jobs/push_job.h"
 #include "io/atomic_file.h"
 
 namespace skidsim::apps {

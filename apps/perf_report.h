@@ -5,7 +5,7 @@
 // cost (wall seconds per simulated second, one core). So a user can pick the
 // cheapest cell size that meets the error they need.
 //
-// Sections (apps/perf_report_parts.h; one function each): the repose cone
+// Sections (report/perf_report_parts.h; one function each): the repose cone
 // and the blade push (this file's .cpp), BCRE diffusion and the pressure
 // under a pile (perf_ladders_flow.cpp), plate and wheel sinkage
 // (perf_ladders_contact.cpp), the thesis's speed tables 7.1, 7.4 and 7.5 from

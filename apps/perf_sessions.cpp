@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/perf_report_parts.h"
+#include "report/perf_report_parts.h"
 #include "apps/run_job.h"
 #include "io/soil_table.h"
 

@@ -3,9 +3,9 @@
 #include <chrono>
 #include <iostream>
 
-#include "apps/operator_player.h"
-#include "apps/scene_snapshot.h"
-#include "apps/session_world.h"
+#include "session/operator_player.h"
+#include "visual/scene_snapshot.h"
+#include "session/session_world.h"
 #include "io/atomic_file.h"
 #include "io/loader_files.h"
 #include "io/png_image.h"

@@ -8,8 +8,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "apps/contact_sheet.h"
-#include "apps/review_html.h"
+#include "visual/contact_sheet.h"
+#include "report/review_html.h"
 #include "apps/run_job.h"
 #include "io/atomic_file.h"
 

@@ -5,7 +5,7 @@
 // final state hash must equal the run's, or nothing is kept) with frames
 // from that camera at that rate, into RUN_DIR/frames_<camera>_<fps>fps.
 // The log is checked whole, and against the exercise, before the replay
-// (apps/session_replay.h): a damaged one, or one of another exercise, is
+// (session/session_replay.h): a damaged one, or one of another exercise, is
 // refused (exit 2). Frames missing from a set (a gap in frame_NNNNNN.png,
 // or fewer than were recorded) are named on stderr and on the page.
 #pragma once

@@ -16,16 +16,16 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "apps/frame_recorder.h"
-#include "apps/operator_player.h"
-#include "apps/progress.h"
-#include "apps/report_html.h"
-#include "apps/run_directory.h"
-#include "apps/scene_snapshot.h"
-#include "apps/session_replay.h"
-#include "apps/session_tasks.h"
-#include "apps/session_world.h"
-#include "apps/terrain_tiles.h"
+#include "visual/frame_recorder.h"
+#include "session/operator_player.h"
+#include "jobs/progress.h"
+#include "report/report_html.h"
+#include "jobs/run_directory.h"
+#include "visual/scene_snapshot.h"
+#include "session/session_replay.h"
+#include "session/session_tasks.h"
+#include "session/session_world.h"
+#include "session/terrain_tiles.h"
 #include "io/atomic_file.h"
 #include "io/control_input.h"
 #include "io/lcm_bridge.h"
@@ -137,7 +137,7 @@ int run_session(const RunJob& job) {
   if (replaying) {
     if (!script_path.empty() && !job.script_path.empty()) throw io::InputError("--replay and --script: give one");
     // The whole log checked, and its header against this exercise, before
-    // anything runs (apps/session_replay.h).
+    // anything runs (session/session_replay.h).
     Replay recorded = load_replay(job.replay_path, ex, identity, kStepsPerTick);
     replay = std::move(recorded.controls);
     replay_end_step = recorded.end_step;

@@ -10,17 +10,17 @@
 #include <string>
 #include <vector>
 
-#include "apps/dig_job.h"
-#include "apps/pour_job.h"
-#include "apps/push_job.h"
+#include "jobs/dig_job.h"
+#include "jobs/pour_job.h"
+#include "jobs/push_job.h"
 #include "apps/operator_job.h"
 #include "apps/render_job.h"
 #include "apps/review_job.h"
 #include "apps/batch_job.h"
 #include "apps/perf_report.h"
 #include "apps/run_job.h"
-#include "apps/session_tasks.h"
-#include "apps/session_world.h"
+#include "session/session_tasks.h"
+#include "session/session_world.h"
 #include "io/operator_script.h"
 #include "io/atomic_file.h"
 #include "io/exercise.h"

@@ -7,8 +7,8 @@
 
 #include <filesystem>
 
-#include "apps/scene_snapshot.h"
-#include "apps/session_world.h"
+#include "visual/scene_snapshot.h"
+#include "session/session_world.h"
 #include "io/loader_files.h"
 #include "render/renderer.h"
 #include "render/terrain_mesh.h"

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <memory>
 
-#include "apps/operator_player.h"
-#include "apps/session_tasks.h"
-#include "apps/session_world.h"
+#include "session/operator_player.h"
+#include "session/session_tasks.h"
+#include "session/session_world.h"
 #include "io/control_input.h"
 #include "io/lcm_bridge.h"
 #include "io/loader_files.h"

@@ -1,6 +1,6 @@
 // Writes the binary seeds (scripts/fuzz.sh): encoded control_t messages into
 // argv[1]; into argv[2] a small session log shaped like skidsim's own
-// (apps/session_replay.h): its SKIDSIM_SESSION header first, controls on
+// (session/session_replay.h): its SKIDSIM_SESSION header first, controls on
 // SKIDSIM_CONTROL_APPLIED with a state message between, and the "end" event
 // last; and a height map's JSON and PNG (each behind the heightmap harness's
 // selector byte) into argv[3].

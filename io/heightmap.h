@@ -16,7 +16,7 @@ namespace skidsim::io {
 // The most cells a site may have along a side, for the command line's
 // --site-m / --cell-m and for height maps read from files alike: a square
 // of 16384^2 cells takes 5.6 GB of automaton state, past any machine the
-// simulator runs on (apps/pour_job.cpp).
+// simulator runs on (jobs/pour_job.cpp).
 constexpr int kMaxSiteCellsPerSide = 16384;
 
 // Cell sizes a height map may give: 1 mm (finer than any grid the flow

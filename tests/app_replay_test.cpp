@@ -1,6 +1,6 @@
 // End to end: the session log a replay reads (`skidsim run --replay`,
 // `skidsim review --fps`) is checked whole before anything runs, and
-// belongs to the exercise it was recorded from (apps/session_replay.h):
+// belongs to the exercise it was recorded from (session/session_replay.h):
 // damaged logs, /dev/zero and logs of another exercise are refused with
 // exit 2, naming the byte or both exercises, never crashing or hanging.
 #include <gtest/gtest.h>

@@ -5,9 +5,9 @@
 
 #include <set>
 
-#include "apps/operator_player.h"
-#include "apps/scene_snapshot.h"
-#include "apps/session_world.h"
+#include "session/operator_player.h"
+#include "visual/scene_snapshot.h"
+#include "session/session_world.h"
 #include "io/loader_files.h"
 #include "render/renderer.h"
 

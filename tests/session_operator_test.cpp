@@ -8,8 +8,8 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "apps/operator_player.h"
-#include "apps/session_world.h"
+#include "session/operator_player.h"
+#include "session/session_world.h"
 #include "io/atomic_file.h"
 #include "io/loader_files.h"
 

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "apps/operator_player.h"
-#include "apps/session_tasks.h"
-#include "apps/session_world.h"
+#include "session/operator_player.h"
+#include "session/session_tasks.h"
+#include "session/session_world.h"
 #include "io/loader_files.h"
 
 namespace skidsim::apps {

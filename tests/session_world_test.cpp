@@ -9,7 +9,7 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "apps/session_world.h"
+#include "session/session_world.h"
 #include "io/loader_files.h"
 
 namespace skidsim::apps {

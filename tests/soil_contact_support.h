@@ -1,5 +1,5 @@
 // The terrain tests' soil-contact helpers: a translating body (now in
-// terrain/translating_body.h, shared with the performance report) and a flat site.
+// experiments/translating_body.h, shared with the performance report) and a flat site.
 #pragma once
 
 #include <Eigen/Core>
@@ -9,7 +9,7 @@
 
 #include "terrain/granular_grid.h"
 #include "terrain/soil_contact.h"
-#include "terrain/translating_body.h"
+#include "experiments/translating_body.h"
 
 namespace skidsim::terrain::testing {
 

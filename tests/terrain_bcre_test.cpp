@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "terrain/bcre_bump.h"
+#include "experiments/bcre_bump.h"
 #include "tests/test_support.h"
 
 namespace skidsim::terrain {
@@ -15,7 +15,7 @@ namespace {
 using testing::kDt;
 using testing::kPi;
 
-// The strip of terrain/bcre_bump.h run to `t_end_s`: the largest error over
+// The strip of experiments/bcre_bump.h run to `t_end_s`: the largest error over
 // the middle metre relative to the bump's height.
 double bump_error(double cell_m, double t_end_s) {
   GranularGrid g = bcre_bump_strip(cell_m, kDt);

@@ -13,7 +13,7 @@
 
 #include "terrain/body_shapes.h"
 #include "terrain/soil_contact.h"
-#include "terrain/loading_experiments.h"
+#include "experiments/loading_experiments.h"
 #include "tests/soil_contact_support.h"
 
 namespace skidsim::terrain {
@@ -31,7 +31,7 @@ struct PlateRun {
   double supported_N = 0.0;
 };
 
-// The plate-loading experiment (terrain/loading_experiments.h) on 0.5 m of sand;
+// The plate-loading experiment (experiments/loading_experiments.h) on 0.5 m of sand;
 // the soil's damping keeps the loading branch overdamped, so the plate
 // creeps down to rest.
 PlateRun settle_plate(const SoilMechanics& soil, double mass_kg, double cells_per_m) {

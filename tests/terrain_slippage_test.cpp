@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "terrain/slippage_study.h"
+#include "experiments/slippage_study.h"
 #include "tests/test_support.h"
 
 namespace skidsim::terrain {

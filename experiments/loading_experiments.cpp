@@ -1,0 +1,81 @@
+#include "experiments/loading_experiments.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "terrain/body_shapes.h"
+#include "terrain/soil_contact.h"
+#include "experiments/translating_body.h"
+
+namespace skidsim::terrain {
+
+SoilMechanics plate_test_soil(double n) {
+  SoilMechanics s;
+  s.n = n;
+  s.k_c_kN_per_m_n1 = 0.0;
+  s.k_phi_kN_per_m_n2 = 1000.0 * kGravity_m_s2 / std::pow(0.15, n) / 1000.0;
+  return s;
+}
+
+double bekker_plate_depth_m(const SoilMechanics& soil, double mass_kg) {
+  return std::pow(mass_kg * kGravity_m_s2 / bekker_modulus_Pa(soil, 1.0), 1.0 / soil.n);
+}
+
+PlateLoadingRun run_plate_loading(GranularGrid& grid, const SoilMechanics& soil, double mass_kg, double layer_top_m,
+                                  double step_dt_s) {
+  constexpr double kHalfThickness = 0.05;
+  SoilContactModel model(grid, soil);
+  OrientedBox plate;
+  plate.half_extents_m = {0.5, 0.5, kHalfThickness};
+  TranslatingBody body;
+  body.mass_kg = mass_kg;
+  body.position_m = {0.8137, 0.7731, layer_top_m + kHalfThickness};  // off the cell edges
+  BodyReaction r;
+  const int max_steps = static_cast<int>(std::lround(10.0 / step_dt_s));
+  int still_steps = 0, step = 0;
+  for (; step < max_steps && still_steps < 100; ++step) {
+    const double t = step * step_dt_s;
+    still_steps = t > 1.0 && std::abs(body.velocity_m_s.z()) < 2e-6 ? still_steps + 1 : 0;
+    plate.centre_m = body.position_m;
+    r = model.interact(0, plate, body.motion());
+    body.step(r, {0.0, 0.0, -mass_kg * kGravity_m_s2 * std::min(1.0, t / 1.0)}, step_dt_s);
+    grid.step();
+  }
+  return {layer_top_m - (body.position_m.z() - kHalfThickness), std::abs(body.velocity_m_s.z()), r.force_N.z(),
+          step * step_dt_s};
+}
+
+double bekker_rigid_wheel_depth_m(const SoilMechanics& soil, double load_N, double radius_m, double width_m) {
+  const double k_Pa_per_m_n = 1000.0 * (soil.k_c_kN_per_m_n1 + width_m * soil.k_phi_kN_per_m_n2);
+  return std::pow(3.0 * load_N / ((3.0 - soil.n) * k_Pa_per_m_n * std::sqrt(2.0 * radius_m)), 2.0 / (2.0 * soil.n + 1.0));
+}
+
+WheelLoadingRun run_rigid_wheel(GranularGrid& grid, const SoilMechanics& soil, double mass_kg, double radius_m,
+                                double width_m, double speed_m_s, double layer_top_m, double step_dt_s) {
+  SoilContactModel model(grid, soil);
+  Cylinder wheel;
+  wheel.radius_m = radius_m;
+  wheel.half_width_m = 0.5 * width_m;
+  const Eigen::Vector2d start_m(0.6137, 0.7871);  // off the cell edges
+  TranslatingBody body;
+  body.mass_kg = mass_kg;
+  body.position_m = {start_m.x(), start_m.y(), layer_top_m + radius_m};
+  const int steps = static_cast<int>((speed_m_s > 0.0 ? 2.8 / speed_m_s : 6.0) / step_dt_s);
+  for (int step = 0; step < steps; ++step) {
+    const double t = step * step_dt_s;
+    wheel.centre_m = body.position_m;
+    BodyMotion motion = body.motion();
+    motion.linear_velocity_m_s.x() = speed_m_s;
+    motion.angular_velocity_rad_s = {0.0, speed_m_s / radius_m, 0.0};  // rolling: the lowest point is still
+    const BodyReaction r = model.interact(0, wheel, motion);
+    body.step(r, {0.0, 0.0, -mass_kg * kGravity_m_s2 * std::min(1.0, t / 1.0)}, step_dt_s);
+    body.velocity_m_s.x() = speed_m_s;  // towed
+    body.velocity_m_s.y() = 0.0;
+    body.position_m.x() = start_m.x() + speed_m_s * (t + step_dt_s);
+    body.position_m.y() = start_m.y();
+    grid.step();
+  }
+  return {layer_top_m - (body.position_m.z() - radius_m), steps * step_dt_s};
+}
+
+}  // namespace skidsim::terrain
