@@ -27,41 +27,13 @@
 #include "session/session_world.h"
 #include "session/terrain_tiles.h"
 #include "io/atomic_file.h"
+#include "jobs/interrupt.h"
 #include "io/control_input.h"
 #include "io/lcm_bridge.h"
 #include "io/loader_files.h"
 
 namespace skidsim::apps {
 namespace {
-
-// Ctrl-C, SIGTERM, SIGHUP (the terminal closed) and SIGQUIT end a session at
-// the next control tick, with its report and log written (end_reason
-// "interrupted"), instead of losing it. The handlers stay until the run
-// directory is in place, so a signal while the report is written does not
-// lose it either.
-volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void on_interrupt(int) { g_interrupted = 1; }
-
-constexpr int kEndingSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
-
-class InterruptHandlers {
- public:
-  InterruptHandlers() {
-    g_interrupted = 0;
-    struct sigaction action {};
-    action.sa_handler = on_interrupt;
-    sigemptyset(&action.sa_mask);
-    for (std::size_t k = 0; k < std::size(kEndingSignals); ++k) sigaction(kEndingSignals[k], &action, &previous_[k]);
-  }
-  ~InterruptHandlers() {
-    for (std::size_t k = 0; k < std::size(kEndingSignals); ++k) sigaction(kEndingSignals[k], &previous_[k], nullptr);
-  }
-  InterruptHandlers(const InterruptHandlers&) = delete;
-  InterruptHandlers& operator=(const InterruptHandlers&) = delete;
-
- private:
-  struct sigaction previous_[std::size(kEndingSignals)] {};
-};
 
 using nlohmann::json;
 
@@ -122,6 +94,9 @@ void log_message(lcm::LogFile& log, const std::string& channel, const Message& m
 }  // namespace
 
 int run_session(const RunJob& job) {
+  // From the start: a signal during setup ends the session at its first
+  // tick, with its report, rather than killing it with a staging folder left.
+  const jobs::InterruptScope interrupt_scope;
   const io::Exercise ex = io::load_exercise(job.exercise_path);
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
@@ -238,7 +213,6 @@ int run_session(const RunJob& job) {
   std::int64_t watchdog_trips_seen = 0;
   std::string end_reason = "time_limit";
   const auto wall_start = std::chrono::steady_clock::now();
-  const InterruptHandlers interrupt_handlers;
   // The report's plots over time (columnar, reserved: no reallocation in the loop).
   const char* const kSeries[] = {"t_s", "chassis_x_m", "chassis_y_m", "speed_m_s", "bucket_payload_kg",
                                  "material_moved_kg", "task_progress", "score", "engine_speed_rpm",
@@ -256,7 +230,7 @@ int run_session(const RunJob& job) {
       break;
     }
     if (step % kStepsPerTick == 0) {
-      if (g_interrupted) {
+      if (jobs::interrupting_signal() != 0) {
         end_reason = "interrupted";
         break;
       }

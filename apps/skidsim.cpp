@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <sstream>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -22,6 +23,7 @@
 #include "session/session_tasks.h"
 #include "session/session_world.h"
 #include "io/operator_script.h"
+#include "jobs/interrupt.h"
 #include "io/atomic_file.h"
 #include "io/exercise.h"
 #include "io/loader_files.h"
@@ -51,6 +53,23 @@ int run_bench(bool json, const std::string& filter, double min_time_s, const std
     return 2;
   }
   return 0;
+}
+
+// Every number on the command line is a finite decimal in its range where it
+// enters (CLI11's own Range and PositiveNumber let NaN through, and its
+// parser takes hex and inf).
+CLI::Validator number_in(double lo, double hi) {
+  std::ostringstream range;
+  range << "[" << lo << ", " << hi << "]";
+  return CLI::Validator(
+      [lo, hi, r = range.str()](std::string& text) -> std::string {
+        const char* p = text.c_str();
+        double v = 0.0;
+        if (!skidsim::io::parse_decimal_number(p, v) || *p != '\0') return "'" + text + "' is not a finite decimal number";
+        if (!(v >= lo && v <= hi)) return "'" + text + "' is not within " + r;
+        return "";
+      },
+      "NUMBER in " + range.str());
 }
 
 // Options every job has: its run directory and its soil.
@@ -204,13 +223,13 @@ int main(int argc, char** argv) {
       "pour", "Pour sand from a hopper onto a site, let it settle, and write a run directory\n"
               "(summary.json, final terrain as 16-bit PNG height maps with JSON metadata)");
   add_job_options(pour_cmd, pour.out_dir, pour.soil_id, pour.soil_table_path);
-  pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(CLI::PositiveNumber);
-  pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(CLI::PositiveNumber);
-  pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(CLI::Range(0.0, 1000.0));
-  pour_cmd->add_option("--rate-kg-s", pour.pour_rate_kg_per_s, "Hopper flow, kg/s")->capture_default_str()->check(CLI::NonNegativeNumber);
-  pour_cmd->add_option("--pour-s", pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(CLI::NonNegativeNumber);
-  pour_cmd->add_option("--hopper-m", pour.hopper_radius_m, "Hopper outlet radius, m")->capture_default_str()->check(CLI::NonNegativeNumber);
-  pour_cmd->add_option("--settle-s", pour.max_settle_s, "Longest settling time after the pour, s")->capture_default_str()->check(CLI::NonNegativeNumber);
+  pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(number_in(0.01, 2000.0));
+  pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(number_in(0.001, 10.0));
+  pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(number_in(0.0, 1000.0));
+  pour_cmd->add_option("--rate-kg-s", pour.pour_rate_kg_per_s, "Hopper flow, kg/s")->capture_default_str()->check(number_in(0.0, 1e12));
+  pour_cmd->add_option("--pour-s", pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(number_in(0.0, 86400.0));
+  pour_cmd->add_option("--hopper-m", pour.hopper_radius_m, "Hopper outlet radius, m")->capture_default_str()->check(number_in(0.0, 1000.0));
+  pour_cmd->add_option("--settle-s", pour.max_settle_s, "Longest settling time after the pour, s")->capture_default_str()->check(number_in(0.0, 86400.0));
   pour_cmd->add_option("--material-map", pour.material_map_path,
                        "Initial material depth: a height map's JSON (quantity \"material\"), e.g. a previous run's "
                        "terrain_material.json; sets the grid")
@@ -225,12 +244,12 @@ int main(int argc, char** argv) {
       "push", "Push a vertical blade through a flat layer of soil and record its resistance along the push\n"
               "(the thesis's fig. 7.12): summary.json, resistance.csv, the final terrain height map");
   add_job_options(push_cmd, push.out_dir, push.soil_id, push.soil_table_path);
-  push_cmd->add_option("--cells-per-m", push.cells_per_m, "Grid density, cells per metre")->capture_default_str();
-  push_cmd->add_option("--layer-m", push.layer_m, "Depth of the flat layer of soil, m")->capture_default_str();
-  push_cmd->add_option("--depth-m", push.depth_m, "Blade edge below the surface (H), m")->capture_default_str();
-  push_cmd->add_option("--width-m", push.width_m, "Blade width (B), m")->capture_default_str();
-  push_cmd->add_option("--speed-m-s", push.speed_m_s, "Push speed, m/s")->capture_default_str();
-  push_cmd->add_option("--distance-m", push.distance_m, "Length of the push, m")->capture_default_str();
+  push_cmd->add_option("--cells-per-m", push.cells_per_m, "Grid density, cells per metre")->capture_default_str()->check(number_in(-1e300, 1e300));
+  push_cmd->add_option("--layer-m", push.layer_m, "Depth of the flat layer of soil, m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  push_cmd->add_option("--depth-m", push.depth_m, "Blade edge below the surface (H), m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  push_cmd->add_option("--width-m", push.width_m, "Blade width (B), m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  push_cmd->add_option("--speed-m-s", push.speed_m_s, "Push speed, m/s")->capture_default_str()->check(number_in(-1e300, 1e300));
+  push_cmd->add_option("--distance-m", push.distance_m, "Length of the push, m")->capture_default_str()->check(number_in(-1e300, 1e300));
 
   skidsim::apps::DigJob dig;
   CLI::App* dig_cmd = app.add_subcommand(
@@ -238,8 +257,8 @@ int main(int argc, char** argv) {
              "driven by a built-in scripted operator: summary.json (masses, books), phases.csv, height maps");
   add_job_options(dig_cmd, dig.out_dir, dig.soil_id, dig.soil_table_path);
   dig_cmd->add_option("--cells-per-m", dig.cells_per_m, "Grid density of the site and the bucket, cells per metre")
-      ->capture_default_str();
-  dig_cmd->add_option("--bank-m", dig.bank_height_m, "Height of the sand bank, m")->capture_default_str();
+      ->capture_default_str()->check(number_in(-1e300, 1e300));
+  dig_cmd->add_option("--bank-m", dig.bank_height_m, "Height of the sand bank, m")->capture_default_str()->check(number_in(-1e300, 1e300));
   dig_cmd->add_option("--loader", dig.loader_path, "Loader parameter file (default: the shipped loader)");
 
   skidsim::apps::RunJob run;
@@ -253,14 +272,14 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
   // 0 is refused rather than read as "no limit": a session always ends.
   run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time, 0.001 to 86400 s (default: the exercise's limit)")
-      ->check(CLI::Range(0.001, 86400.0));
+      ->check(number_in(0.001, 86400.0));
   run_cmd->add_flag("--record", run.record,
                     "Render frames (the exercise's <record>: rate, camera, size) into RUN/frames on a second thread;\n"
                     "a video too (session.mp4) when ffmpeg is on the PATH");
   run_cmd->add_option("--camera", run.camera, "With --record: cab, chase, aerial or fixed (default: the exercise's)");
-  run_cmd->add_option("--frame-width", run.frame_width, "With --record: pixels (default: the exercise's)");
-  run_cmd->add_option("--frame-height", run.frame_height, "With --record: pixels (default: the exercise's)");
-  run_cmd->add_option("--fps", run.frame_fps, "With --record: frames a second (default: the exercise's)");
+  run_cmd->add_option("--frame-width", run.frame_width, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
+  run_cmd->add_option("--frame-height", run.frame_height, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
+  run_cmd->add_option("--fps", run.frame_fps, "With --record: frames a second (default: the exercise's)")->check(number_in(0.1, 100.0));
   run_cmd->add_option("--render-backend", run.render_backend, "With --record: auto, egl or osmesa")->capture_default_str();
   run_cmd->add_flag("--terrain-tiles", run.terrain_tiles,
                     "Also send the soil's surface over LCM and to the log (SKIDSIM_TERRAIN): every 32 x 32 tile\n"
@@ -276,10 +295,10 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--out", render_job.out_path, "PNG to write")->capture_default_str();
   render_cmd->add_option("--camera", render_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
   render_cmd->add_option("--backend", render_job.backend, "auto, egl or osmesa")->capture_default_str();
-  render_cmd->add_option("--width", render_job.width, "Pixels (default: the exercise's <record>)");
-  render_cmd->add_option("--height", render_job.height, "Pixels (default: the exercise's <record>)");
+  render_cmd->add_option("--width", render_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  render_cmd->add_option("--height", render_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   render_cmd->add_option("--script", render_job.script_path, "Operator script to play first");
-  render_cmd->add_option("--at-s", render_job.at_s, "Simulated seconds of the script to play first");
+  render_cmd->add_option("--at-s", render_job.at_s, "Simulated seconds of the script to play first")->check(number_in(0.0, 86400.0));
 
   skidsim::apps::ReviewJob review_job;
   CLI::App* review_cmd = app.add_subcommand(
@@ -288,9 +307,9 @@ int main(int argc, char** argv) {
                 "first render the session again by replaying its log (frames_<camera>_<fps>fps)");
   review_cmd->add_option("run_dir", review_job.run_dir, "Run directory (of skidsim run)")->required();
   review_cmd->add_option("--camera", review_job.camera, "Re-render from this camera: cab, chase, aerial or fixed");
-  review_cmd->add_option("--fps", review_job.fps, "Re-render at this rate (frames a second)");
-  review_cmd->add_option("--width", review_job.width, "Re-render size in pixels (default: the exercise's <record>)");
-  review_cmd->add_option("--height", review_job.height, "Re-render size in pixels (default: the exercise's <record>)");
+  review_cmd->add_option("--fps", review_job.fps, "Re-render at this rate (frames a second)")->check(number_in(0.1, 100.0));
+  review_cmd->add_option("--width", review_job.width, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  review_cmd->add_option("--height", review_job.height, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   review_cmd->add_option("--backend", review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
   review_cmd->add_option("--exercise", review_job.exercise_path, "The exercise file (default: the one report.json names)");
 
@@ -300,8 +319,8 @@ int main(int argc, char** argv) {
                "--script or --replay), at most --jobs at a time, each into OUT/NNN_exercise; then batch.json");
   batch_cmd->add_option("list", batch_job.list_path, "The list: one session's `skidsim run` arguments per line")->required();
   batch_cmd->add_option("--out", batch_job.out_dir, "Folder for the run directories and batch.json")->capture_default_str();
-  batch_cmd->add_option("--jobs", batch_job.jobs, "Sessions at a time (default: the machine's cores)");
-  batch_cmd->add_option("--index", batch_job.index, "Run only entry K (1-based): one task of a cluster's array job");
+  batch_cmd->add_option("--jobs", batch_job.jobs, "Sessions at a time (default: the machine's cores)")->check(number_in(0.0, 256.0));
+  batch_cmd->add_option("--index", batch_job.index, "Run only entry K (1-based): one task of a cluster's array job")->check(number_in(0.0, 1000000.0));
 
   skidsim::apps::OperatorJob operator_job;
   CLI::App* operator_cmd = app.add_subcommand(
@@ -311,7 +330,7 @@ int main(int argc, char** argv) {
   operator_cmd->add_option("--lcm", operator_job.lcm_url, "LCM provider (default: udpm on this host, ttl 0)");
   operator_cmd->add_option("--channel", operator_job.control_channel, "Control channel")->capture_default_str();
   operator_cmd->add_option("--idle-s", operator_job.idle_timeout_s, "Stop when no state came for this long")
-      ->capture_default_str();
+      ->capture_default_str()->check(number_in(0.01, 86400.0));
 
   bool bench_json = false;
   std::string bench_filter, bench_out;
@@ -320,7 +339,7 @@ int main(int argc, char** argv) {
       "bench", "Run the benchmarks (Google Benchmark): a table by default, --json for machines");
   bench_cmd->add_flag("--json", bench_json, "Print JSON instead of a table");
   bench_cmd->add_option("--filter", bench_filter, "Regular expression selecting benchmarks");
-  bench_cmd->add_option("--min-time", bench_min_time, "Minimum seconds per benchmark");
+  bench_cmd->add_option("--min-time", bench_min_time, "Minimum seconds per benchmark")->check(number_in(0.0, 3600.0));
   bench_cmd->add_option("--out", bench_out, "Also write the results as JSON to this file");
   skidsim::apps::PerfReportJob report_job;
   CLI::App* report_cmd = bench_cmd->add_subcommand(
@@ -345,6 +364,19 @@ int main(int argc, char** argv) {
   CLI::App* soils_cmd = app.add_subcommand("soils", "List the soils of the soil table");
   soils_cmd->add_option("--table", soil_table, "Soil table XML")->capture_default_str();
 
+  // A mistyped command is named (CLI11 alone says only that one is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known = known || sub->check_name(argv[1]);
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "skidsim: unknown command '" << argv[1] << "' (expected one of " << names << "; skidsim --help)\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -365,6 +397,9 @@ int main(int argc, char** argv) {
     if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
     if (*soils_cmd) return list_soils(soil_table);
     if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);
+  } catch (const skidsim::jobs::Interrupted& e) {
+    std::cerr << "skidsim: " << e.what() << "\n";
+    return 128 + e.signal_number;
   } catch (const skidsim::io::InputError& e) {
     std::cerr << "skidsim: " << e.what() << "\n";
     return 2;

@@ -41,11 +41,10 @@ std::vector<Eigen::Vector2d> read_points(AttributeReader& a, const char* name, s
     const std::string item = text.substr(at, end - at);
     at = end + 1;
     if (item.find_first_not_of(" \t\n\r") == std::string::npos) continue;
-    char* rest = nullptr;
-    const double x = std::strtod(item.c_str(), &rest);
-    char* after = nullptr;
-    const double y = std::strtod(rest, &after);
-    if (after == rest || std::string(after).find_first_not_of(" \t\n\r") != std::string::npos ||
+    const char* p = item.c_str();
+    double x = 0.0, y = 0.0;
+    const bool parsed = parse_decimal_number(p, x) && parse_decimal_number(p, y);
+    if (!parsed || std::string(p).find_first_not_of(" \t\n\r") != std::string::npos ||
         !(std::abs(x) <= kMaxCoordinate_m) || !(std::abs(y) <= kMaxCoordinate_m))
       a.fail(std::string("attribute '") + name + "': \"" + item + "\" is not a point (expected \"x y; x y; ...\")");
     points.emplace_back(x, y);

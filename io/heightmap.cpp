@@ -163,6 +163,10 @@ HeightLimits height_limits(const std::string& quantity) {
 
 json parse_metadata(const std::string& path) {
   const std::string text = read_input_file(path, kMaxJsonBytes, "height map metadata");
+  // nlohmann stops quietly at a NUL: whatever follows would go unread.
+  if (const std::size_t at = text.find('\0'); at != std::string::npos)
+    throw InputError(path + ":" + std::to_string(1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) +
+                     ": a NUL byte at byte " + std::to_string(at) + " (not a JSON text file)");
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {

@@ -1,5 +1,6 @@
 #include "io/loader_files.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -7,6 +8,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
+#include <sys/stat.h>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -62,6 +64,33 @@ vehicle::Pose to_pose(const urdf::Pose& p, const std::string& urdf_path, int lin
   return out;
 }
 
+// Every file assimp opens (the mesh, and whatever it names: an OBJ's
+// material library, a glTF's buffers) goes through the checked opener: a
+// FIFO or a device named inside a mesh would otherwise hang the read.
+class CheckedIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (std::string(mode).find_first_of("wa+") != std::string::npos) return nullptr;  // read only
+    try {
+      check_input_file(file, kMaxMeshBytes, "mesh file");
+    } catch (const InputError& e) {
+      refused = e.what();
+      return nullptr;
+    }
+    return DefaultIOSystem::Open(file, mode);
+  }
+  // DefaultIOSystem's Exists() opens the file: on a FIFO that waits forever.
+  bool Exists(const char* file) const override {
+    struct stat st {};
+    return ::stat(file, &st) == 0 && S_ISREG(st.st_mode);
+  }
+  std::string refused;  // the last file refused, for the message
+};
+
+// A polygon of this many corners is no part of a machine; triangulating a
+// million-corner face (assimp's ear clipping) would take hours.
+constexpr unsigned kMaxFaceCorners = 1024;
+
 void load_mesh(vehicle::VisualMesh& mesh, const Eigen::Vector3d& scale, const std::string& urdf_path, int line,
                const std::string& link) {
   // A regular file of a sane size before assimp is given it (a folder, a
@@ -72,11 +101,22 @@ void load_mesh(vehicle::VisualMesh& mesh, const Eigen::Vector3d& scale, const st
     fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': " + e.what());
   }
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(mesh.path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                                          aiProcess_PreTransformVertices);
+  auto* io = new CheckedIOSystem;  // the importer owns it
+  importer.SetIOHandler(io);
+  const std::string where = "link '" + link + "' visual mesh '" + mesh.path + "'";
+  // Read first, check the polygons' sizes, then post-process.
+  const aiScene* scene = importer.ReadFile(mesh.path, 0);
   if (!scene || !scene->mRootNode || scene->mNumMeshes == 0)
-    fail_line(urdf_path, line, "link '" + link + "' visual mesh '" + mesh.path + "': cannot read it (" +
-                                   importer.GetErrorString() + ")");
+    fail_line(urdf_path, line, where + ": cannot read it (" + (io->refused.empty() ? importer.GetErrorString() : io->refused) + ")");
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+    for (unsigned f = 0; f < scene->mMeshes[m]->mNumFaces; ++f)
+      if (scene->mMeshes[m]->mFaces[f].mNumIndices > kMaxFaceCorners)
+        fail_line(urdf_path, line, where + ": face " + std::to_string(f) + " of mesh " + std::to_string(m) + " has " +
+                                       std::to_string(scene->mMeshes[m]->mFaces[f].mNumIndices) + " corners (at most " +
+                                       std::to_string(kMaxFaceCorners) + ")");
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
+  if (!scene || !scene->mRootNode || scene->mNumMeshes == 0)
+    fail_line(urdf_path, line, where + ": cannot read it (" + importer.GetErrorString() + ")");
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
     const unsigned base = static_cast<unsigned>(mesh.vertices_m.size());
@@ -277,6 +317,7 @@ void read_cylinder(LoaderDescription& d, const std::string& path, const tinyxml2
   c.child_pin_m = a.vector3_in("child_pin", -50.0, 50.0);
   c.line = e->GetLineNum();
   a.reject_unknown();
+  a.reject_content();
   const vehicle::ImplementJoint& j = d.joints[c.joint];
   // A pin on the joint's axis keeps the cylinder's length whatever the
   // angle: it cannot turn the joint (and its speed would be infinite). In
@@ -364,6 +405,7 @@ void read_bucket_interior(LoaderDescription& d, const std::string& path, const t
       in.cutting_edge_length_m = a.number_in("cutting_edge_length_m", 0.01, 10.0);
       in.bottom_clearance_rad = a.number_in("bottom_clearance_deg", 0.0, 45.0) * kPi / 180.0;
       a.reject_unknown();
+      a.reject_content();
       if (in.heel_radius_m > in.back_height_m) a.fail("heel_radius_m must not exceed back_height_m");
     } else if (name == "filling") {
       if (have_filling) a.fail("appears twice");
@@ -374,6 +416,7 @@ void read_bucket_interior(LoaderDescription& d, const std::string& path, const t
       in.spreading_eps = a.number_in("spreading_eps", 0.0, 0.5);
       in.spreading_block_cells = a.number_in("block_height_cells", 0.25, 8.0);
       a.reject_unknown();
+      a.reject_content();
     } else {
       a.fail("unknown element (expected <interior> or <filling>)");
     }
@@ -430,6 +473,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
         const double rpm = pa.number_in("rpm", 1.0, 10000.0);
         const double kw = pa.number_in("kW", 0.0, 10000.0);
         pa.reject_unknown();
+        pa.reject_content();
         if (!en.speed_rpm.empty() && !(rpm > en.speed_rpm.back())) pa.fail("rpm must increase down the table");
         en.speed_rpm.push_back(rpm);
         en.full_load_power_W.push_back(kw * 1e3);
@@ -443,6 +487,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       d.implement_pump.efficiency = a.number_in("efficiency", 0.1, 1.0);
       d.implement_pump.spool_time_s = a.number_in("spool_time_s", 0.0, 10.0);
       a.reject_unknown();
+      a.reject_content();
     } else if (name == "cylinder") {
       read_cylinder(d, parameters_path, e);
     } else if (name == "drive") {
@@ -458,6 +503,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       dr.brake_torque_N_m = a.number_in("brake_torque_N_m", 0.0, 1e6);
       dr.pump_stroke_time_s = a.number_in("pump_stroke_time_s", 0.0, 10.0);
       a.reject_unknown();
+      a.reject_content();
     } else if (name == "tyre") {
       once(have_tyre);
       auto& t = d.tyre;
@@ -483,10 +529,12 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       t.Cyk = a.number_in("Cyk", 0.1, 3.0);
       t.rolling_resistance = a.number_in("rolling_resistance", 0.0, 0.5);
       a.reject_unknown();
+      a.reject_content();
     } else if (name == "wheel") {
       const std::string link = a.text("link", true);
       const std::string side = a.text("side", true);
       a.reject_unknown();
+      a.reject_content();
       vehicle::Wheel* w = nullptr;
       for (auto& cand : d.wheels)
         if (cand.name == link) w = &cand;

@@ -26,6 +26,7 @@ SoilTable load_soil_table(const std::string& path) {
   load_xml(doc, path);
   const XMLElement* root = doc.RootElement();
   if (!root || std::string(root->Name()) != "soils") fail(path, root, "expected the root element <soils>");
+  AttributeReader(path, root).reject_unknown();  // <soils> takes no attributes
 
   SoilTable table;
   for (const XMLElement* s = root->FirstChildElement(); s; s = s->NextSiblingElement()) {

@@ -41,17 +41,45 @@ void parse_xml(tinyxml2::XMLDocument& doc, const std::string& path, const std::s
     msg << path << ":" << doc.ErrorLineNum() << ": " << doc.ErrorStr();
     throw InputError(msg.str());
   }
+  // One document, one root: a second element after it would be ignored.
+  if (const tinyxml2::XMLElement* root = doc.RootElement())
+    if (const tinyxml2::XMLElement* extra = root->NextSiblingElement())
+      fail_at(path, extra, std::string("a second top-level element after <") + root->Name() +
+                               "> (a file holds one root element)");
+}
+
+bool parse_decimal_number(const char*& text, double& value) {
+  // Decimal only: [+-]digits[.digits][(e|E)[+-]digits] after blanks.
+  // strtod alone also takes hex ("0x10" as 16), "inf" and "nan".
+  const char* p = text;
+  while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') ++p;
+  const char* start = p;
+  if (*p == '+' || *p == '-') ++p;
+  const auto digits = [&p] {
+    int n = 0;
+    while (*p >= '0' && *p <= '9') ++p, ++n;
+    return n;
+  };
+  int mantissa = digits();
+  if (*p == '.') {
+    ++p;
+    mantissa += digits();
+  }
+  if (mantissa == 0) return false;
+  if (*p == 'e' || *p == 'E') {
+    ++p;
+    if (*p == '+' || *p == '-') ++p;
+    if (digits() == 0) return false;
+  }
+  const std::string token(start, p);
+  value = std::strtod(token.c_str(), nullptr);
+  if (!std::isfinite(value)) return false;
+  text = p;
+  return true;
 }
 
 namespace {
-// Parses one number from `text`, advancing it; false if none is there.
-bool parse_number(const char*& text, double& value) {
-  char* end = nullptr;
-  value = std::strtod(text, &end);
-  if (end == text || !std::isfinite(value)) return false;
-  text = end;
-  return true;
-}
+bool parse_number(const char*& text, double& value) { return parse_decimal_number(text, value); }
 bool at_end(const char* p) {
   while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') ++p;
   return *p == '\0';

@@ -22,6 +22,11 @@ void load_xml(tinyxml2::XMLDocument& doc, const std::string& path);
 // caller that hands the same bytes to another parser too (the URDF).
 void parse_xml(tinyxml2::XMLDocument& doc, const std::string& path, const std::string& text);
 
+// Parses one decimal number from `text` (blanks first), advancing past it;
+// false, with `text` unmoved, unless a finite decimal number is there (hex,
+// inf and nan are not numbers in skidsim's files).
+bool parse_decimal_number(const char*& text, double& value);
+
 // The one bound for positions and extents read from any file (metres): far
 // past any site (2 km) and the roads beyond it, near enough that every
 // product of two stays far from overflow.

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <vector>
 
+#include "jobs/interrupt.h"
 #include "jobs/progress.h"
 #include "jobs/run_directory.h"
 #include "engine/soil_site.h"
@@ -209,6 +210,7 @@ vehicle::LoaderControls operate(Operator& op, const engine::World& w, double hea
 }  // namespace
 
 int run_dig_job(const DigJob& job) {
+  const jobs::InterruptScope interrupt_scope;  // a signal stops the job; the previous result stays
   require(job.cells_per_m >= 10.0 && job.cells_per_m <= 40.0, "--cells-per-m", job.cells_per_m,
           "10 to 40 (the bucket's automaton needs cells of at most 10 cm)");
   require(job.bank_height_m > 0.05 && job.bank_height_m <= 1.5, "--bank-m", job.bank_height_m, "more than 0.05 and at most 1.5 m");
@@ -256,6 +258,7 @@ int run_dig_job(const DigJob& job) {
   Progress progress("dig", limit_s);
   long steps = 0;
   while (op.phase != Phase::kDone && world.time_s() < limit_s) {
+    jobs::stop_if_interrupted("dig");
     world.step(operate(op, world, heaped_kg));
     ++steps;
     if (ex.total_quanta() != total) conserved = false;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "jobs/interrupt.h"
 #include "jobs/progress.h"
 #include "jobs/run_directory.h"
 #include "io/atomic_file.h"
@@ -18,6 +19,7 @@ namespace skidsim::apps {
 using nlohmann::json;
 
 int run_pour_job(const PourJob& job) {
+  const jobs::InterruptScope interrupt_scope;  // a signal stops the job; the previous result stays
   namespace fs = std::filesystem;
   const std::string table_path = job.soil_table_path.empty() ? io::default_soil_table_path() : job.soil_table_path;
   const io::SoilTable table = io::load_soil_table(table_path);
@@ -113,6 +115,7 @@ int run_pour_job(const PourJob& job) {
   const auto pour_steps = static_cast<std::int64_t>(std::llround(job.pour_duration_s / job.step_dt_s));
   const auto max_steps = pour_steps + static_cast<std::int64_t>(std::llround(job.max_settle_s / job.step_dt_s));
   for (; step < max_steps; ++step) {
+    jobs::stop_if_interrupted("pour");
     if (step < pour_steps) {
       try {
         for (const auto& [i, j] : outlet) grid.add_material_m3(i, j, volume_per_cell_step);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "jobs/interrupt.h"
 #include "jobs/progress.h"
 #include "jobs/run_directory.h"
 #include "io/atomic_file.h"
@@ -30,6 +31,7 @@ void require(bool ok, const std::string& option, double value, const std::string
 }  // namespace
 
 int run_push_job(const PushJob& job) {
+  const jobs::InterruptScope interrupt_scope;  // a signal stops the job; the previous result stays
   require(job.cells_per_m >= 2.0 && job.cells_per_m <= 200.0, "--cells-per-m", job.cells_per_m, "2 to 200");
   require(job.layer_m > 0.0 && job.layer_m <= 10.0, "--layer-m", job.layer_m, "more than 0 and at most 10 m");
   require(job.depth_m > 0.0 && job.depth_m < job.layer_m, "--depth-m", job.depth_m,
@@ -94,6 +96,7 @@ int run_push_job(const PushJob& job) {
   Progress progress("push", steps * job.step_dt_s);
   double displaced_m3 = 0.0, first_N = 0.0, last_N = 0.0;
   for (std::int64_t k = 0; k <= steps; ++k) {
+    jobs::stop_if_interrupted("push");
     if (k > 0) blade.centre_m.x() += job.speed_m_s * job.step_dt_s;
     motion.reference_point_m = blade.centre_m;
     const terrain::BodyReaction r = model.interact(0, blade, motion);

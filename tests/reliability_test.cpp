@@ -398,6 +398,9 @@ bool with_previous(const std::string& name) { return std::hash<std::string>{}(na
 
 void write_previous(const fs::path& out) {
   fs::create_directories(out);
+  // A run directory skidsim wrote carries its marker (io/run_directory.h):
+  // without it --out would rightly refuse the folder.
+  write_file((out / ".skidsim-run").string(), "{\"skidsim_run_directory\": 1, \"command\": \"run\"}\n");
   write_file((out / "report.json").string(), "{\"previous\": true}\n");
   write_file((out / "summary.json").string(), "{\"previous\": true}\n");
   write_file((out / "previous.txt").string(), "a previous run's result\n");
