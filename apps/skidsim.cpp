@@ -223,8 +223,8 @@ int main(int argc, char** argv) {
       "pour", "Pour sand from a hopper onto a site, let it settle, and write a run directory\n"
               "(summary.json, final terrain as 16-bit PNG height maps with JSON metadata)");
   add_job_options(pour_cmd, pour.out_dir, pour.soil_id, pour.soil_table_path);
-  pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(number_in(0.01, 2000.0));
-  pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(number_in(0.001, 10.0));
+  pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(number_in(1e-6, 1e12));
+  pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(number_in(1e-6, 1e12));
   pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(number_in(0.0, 1000.0));
   pour_cmd->add_option("--rate-kg-s", pour.pour_rate_kg_per_s, "Hopper flow, kg/s")->capture_default_str()->check(number_in(0.0, 1e12));
   pour_cmd->add_option("--pour-s", pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(number_in(0.0, 86400.0));

@@ -1,4 +1,5 @@
 #include "engine/agents.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +7,6 @@
 namespace skidsim::engine {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kNeighbourhoodM = 2.5;   // separation between agents
 constexpr double kWaypointM = 0.6;        // a point passed through (not stopped at) counts within this
 constexpr double kLoaderMovingMS = 0.2;   // a loader slower than this is standing

@@ -1,4 +1,5 @@
 #include "experiments/bcre_bump.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +7,6 @@
 namespace skidsim::terrain {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kStripM = 2.0, kX0 = 1.0, kAmplitudeM = 0.02, kBaseM = 0.5;
 const double kSlope = std::tan(55.0 * kPi / 180.0);
 

@@ -1,4 +1,5 @@
 #include "io/loader_files.h"
+#include "common/physical_constants.h"
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
@@ -26,7 +27,6 @@ namespace {
 namespace fs = std::filesystem;
 using vehicle::LoaderDescription;
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Cylinder geometry that can move its joint. A pin closer than 1 cm to the
 // joint's axis, or pins closer than 1 cm to each other, leave the length

@@ -1,4 +1,5 @@
 #include "jobs/dig_job.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,7 +23,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDt = engine::kStepSeconds;
 
 // The scene: the loader at the origin facing +x on firm ground; a soil site

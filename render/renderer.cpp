@@ -1,4 +1,5 @@
 #include "render/renderer.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,6 @@
 namespace skidsim::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 const char* const kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 position;

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "report/perf_report_parts.h"
+#include "common/physical_constants.h"
 #include "engine/world.h"
 #include "io/soil_table.h"
 #include "terrain/granular_grid.h"
@@ -24,7 +25,6 @@
 namespace skidsim::apps::perf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 using terrain::GranularGrid;
 using terrain::GroundModel;
 using terrain::SoilFlowParameters;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "report/perf_report_parts.h"
+#include "common/physical_constants.h"
 #include "experiments/bcre_bump.h"
 #include "terrain/granular_grid.h"
 #include "terrain/load_spreading.h"
@@ -23,7 +24,6 @@ using terrain::GridSpec;
 using terrain::SoilFlowParameters;
 
 constexpr double kStepS = 0.002;  // the engine's step (engine::kStepSeconds)
-constexpr double kPi = 3.14159265358979323846;
 
 std::string cell_label(double cell_m) { return fmt("%g cm", 100.0 * cell_m); }
 

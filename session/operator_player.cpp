@@ -1,4 +1,5 @@
 #include "session/operator_player.h"
+#include "common/physical_constants.h"
 
 #include <Eigen/Geometry>
 
@@ -8,7 +9,6 @@
 namespace skidsim::apps {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 double yaw_of(const skidsim_lcm::state_t& s) {
   const Eigen::Quaterniond q(s.chassis_orientation_wxyz[0], s.chassis_orientation_wxyz[1], s.chassis_orientation_wxyz[2],

@@ -1,4 +1,5 @@
 #include "session/session_world.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace skidsim::apps {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxSettlingSteps = 30000;  // 60 s of avalanching at 2 ms
 
 // Distance from p to the segment a-b.

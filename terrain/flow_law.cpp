@@ -1,4 +1,5 @@
 #include "terrain/flow_law.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace skidsim::terrain {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double tan_deg(double deg) { return std::tan(deg * kPi / 180.0); }
 

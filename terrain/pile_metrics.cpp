@@ -1,11 +1,11 @@
 #include "terrain/pile_metrics.h"
+#include "common/physical_constants.h"
 
 #include <cmath>
 
 namespace skidsim::terrain {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Walks from the centre along (di, dj) and returns the distance at which the
 // material height crosses `edge_m`, linearly interpolated.

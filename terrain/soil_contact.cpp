@@ -1,4 +1,5 @@
 #include "terrain/soil_contact.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@
 namespace skidsim::terrain {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kFullyCovered = 1.0 - 1e-9;
 constexpr int kMaxBodyId = 65535;
 constexpr int kStep[kFaceCount][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};

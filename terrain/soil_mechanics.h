@@ -5,6 +5,7 @@
 // Plain functions of plain data, SI units throughout.
 #pragma once
 
+#include "common/physical_constants.h"
 #include <array>
 #include <string>
 
@@ -46,7 +47,7 @@ struct SoilMechanics {
 // Throws std::invalid_argument naming the field when a value is out of range.
 void validate(const SoilMechanics& soil);
 
-inline constexpr double kGravity_m_s2 = 9.80665;
+using skidsim::kGravity_m_s2;  // common/physical_constants.h: one gravity for the project
 
 // k_c / b + k_phi in Pa / m^n, for a footprint whose smaller side is b.
 double bekker_modulus_Pa(const SoilMechanics& soil, double footprint_b_m);

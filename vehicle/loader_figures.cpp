@@ -1,4 +1,5 @@
 #include "vehicle/loader_figures.h"
+#include "common/physical_constants.h"
 
 #include <cmath>
 
@@ -7,7 +8,6 @@
 namespace skidsim::vehicle {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Isometry3d joint_transform(const ImplementJoint& j, double q) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();

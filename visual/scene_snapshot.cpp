@@ -1,4 +1,5 @@
 #include "visual/scene_snapshot.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@
 namespace skidsim::apps {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const Eigen::Vector3f kMachineYellow(0.86f, 0.62f, 0.08f);
 const Eigen::Vector3f kBucketGrey(0.25f, 0.25f, 0.27f);
 const Eigen::Vector3f kTyreBlack(0.06f, 0.06f, 0.06f);
