@@ -22,6 +22,7 @@
 
 #include "io/atomic_file.h"
 #include "io/input_file.h"
+#include "io/json_file.h"
 
 namespace skidsim::apps {
 namespace {
@@ -167,7 +168,7 @@ int run_batch(const BatchJob& job) {
     // session that died part-way is summarised as not passed, not trusted).
     json r;
     try {
-      r = json::parse(io::read_input_file((out / e.name / "report.json").string(), io::kMaxJsonBytes, "report"));
+      r = io::read_json_file((out / e.name / "report.json").string(), "report");
     } catch (const std::exception&) {
       r = json();
     }

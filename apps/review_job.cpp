@@ -12,6 +12,7 @@
 #include "report/review_html.h"
 #include "apps/run_job.h"
 #include "io/atomic_file.h"
+#include "io/json_file.h"
 
 namespace skidsim::apps {
 namespace {
@@ -20,13 +21,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 json read_json(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw io::InputError(path.string() + ": cannot open (is this a run directory of skidsim run?)");
-  try {
-    return json::parse(in);
-  } catch (const json::exception& e) {
-    throw io::InputError(path.string() + ": not valid JSON (" + e.what() + ")");
-  }
+  if (!fs::exists(fs::symlink_status(path)))
+    throw io::InputError(path.string() + ": no such file (is this a run directory of skidsim run?)");
+  return io::read_json_file(path.string(), "JSON file");
 }
 
 // A report's or frames.json's fields, read without trusting their types.

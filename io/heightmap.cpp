@@ -14,6 +14,7 @@
 
 #include "io/atomic_file.h"
 #include "io/input_file.h"
+#include "io/json_file.h"
 #include "io/png_reader.h"
 #include "io/xml_reader.h"
 #include "terrain/granular_grid.h"
@@ -161,29 +162,7 @@ HeightLimits height_limits(const std::string& quantity) {
   return {-terrain::kMaxBaseAbsM, terrain::kMaxBaseAbsM + terrain::kMaxColumnM, "surface height"};
 }
 
-json parse_metadata(const std::string& path) {
-  const std::string text = read_input_file(path, kMaxJsonBytes, "height map metadata");
-  // nlohmann stops quietly at a NUL: whatever follows would go unread.
-  if (const std::size_t at = text.find('\0'); at != std::string::npos)
-    throw InputError(path + ":" + std::to_string(1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) +
-                     ": a NUL byte at byte " + std::to_string(at) + " (not a JSON text file)");
-  try {
-    return json::parse(text);
-  } catch (const json::parse_error& e) {
-    // nlohmann gives the byte it stopped at (1-based) and a message that
-    // starts with its own error code: keep the reason, add the line.
-    const std::size_t at = std::min<std::size_t>(e.byte, text.size());
-    const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n');
-    std::string reason = e.what();
-    if (reason.rfind("[json.exception.", 0) == 0 && reason.find("] ") != std::string::npos)
-      reason = reason.substr(reason.find("] ") + 2);
-    throw InputError(path + ":" + std::to_string(line) + ": invalid JSON at byte " + std::to_string(e.byte) + ": " +
-                     reason);
-  } catch (const json::exception& e) {
-    // A number past double's range ("1e999") is refused as it is parsed.
-    throw InputError(path + ": invalid JSON: " + e.what());
-  }
-}
+json parse_metadata(const std::string& path) { return read_json_file(path, "height map metadata"); }
 
 }  // namespace
 
