@@ -7,6 +7,7 @@
 #include <chrono>
 #include <iostream>
 
+#include "session/control_message.h"
 #include "session/operator_player.h"
 #include "io/atomic_file.h"
 #include "io/lcm_bridge.h"
@@ -29,19 +30,11 @@ int run_operator(const OperatorJob& job) {
       if (s->step <= last_step) return;  // a state sent again while the simulator waits
       last_step = s->step;
       const vehicle::LoaderControls c = player->step(*s);
-      skidsim_lcm::control_t m{};
+      skidsim_lcm::control_t m = to_message(c, ++seq, s->step);
       m.sender_id = sender_id;
-      m.seq = ++seq;
       m.sender_time_us =
           std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
               .count();
-      m.sim_step = s->step;
-      m.drive_left = c.drive_left;
-      m.drive_right = c.drive_right;
-      m.lift = c.lift;
-      m.tilt = c.tilt;
-      m.throttle = c.throttle;
-      m.parking_brake = c.parking_brake;
       lcm->publish(channel, &m);
     }
     std::int64_t sender_id = 0;

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <iostream>
 
-#include "session/operator_player.h"
+#include "session/session.h"
 #include "visual/scene_snapshot.h"
 #include "session/session_world.h"
 #include "io/atomic_file.h"
@@ -24,22 +24,28 @@ int render_frame(const RenderJob& job) {
   if (width < 16 || height < 16 || width > 8192 || height > 8192)
     throw io::InputError("--width / --height: expected 16 to 8192 pixels");
   const std::string camera_name = job.camera.empty() ? ex.recording.camera : job.camera;
-  auto world = build_session_world(ex, loader, soils);
-  if (!job.script_path.empty()) {
-    OperatorPlayer player(io::load_operator_script(job.script_path));
-    vehicle::LoaderControls controls;
-    while (world->time_s() < job.at_s - 1e-9) {
-      if (world->steps() % 5 == 0) controls = player.step(machine_state(*world, false));
-      world->step(controls);
+  // The exercise's world at the start, or after its script has played for
+  // --at-s as a session (as skidsim run plays it; a session that ends
+  // sooner, its tasks done or its script finished, is drawn as it ended).
+  SessionOptions options;
+  options.limit_s = job.at_s - 1e-9;
+  Session session(ex, loader, soils, options);
+  engine::World& world = session.world();
+  if (!job.script_path.empty() && job.at_s > 0.0) {
+    ScriptOperator script(io::load_operator_script(job.script_path));
+    SessionOutput nowhere;
+    while (session.tick(false, [&](const skidsim_lcm::state_t& st, long, double t) { return script.decide(st, t); },
+                        nowhere)
+               .empty()) {
     }
   }
   render::Camera camera;
   try {
-    camera = exercise_camera(camera_name, ex, *world);
+    camera = exercise_camera(camera_name, ex, world);
   } catch (const std::invalid_argument& e) {
     throw io::InputError(std::string("--camera: ") + e.what());
   }
-  const render::Scene scene = static_scene(ex, *world);
+  const render::Scene scene = static_scene(ex, world);
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<render::OffscreenContext> context;
   try {
@@ -54,7 +60,7 @@ int render_frame(const RenderJob& job) {
   image.rgb = render::render_rgb(*context, renderer, scene, camera);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   io::write_png_rgb8(job.out_path, image);
-  std::cout << "rendered '" << ex.name << "' at " << world->time_s() << " s from the " << camera_name << " camera, "
+  std::cout << "rendered '" << ex.name << "' at " << world.time_s() << " s from the " << camera_name << " camera, "
             << width << " x " << height << ", " << render::backend_name(context->backend()) << " ("
             << context->renderer() << "), " << ms << " ms: " << job.out_path << "\n";
   return 0;

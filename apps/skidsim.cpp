@@ -18,7 +18,7 @@
 #include "apps/render_job.h"
 #include "apps/review_job.h"
 #include "apps/batch_job.h"
-#include "apps/perf_report.h"
+#include "report/perf_report.h"
 #include "apps/run_job.h"
 #include "session/session_tasks.h"
 #include "session/session_world.h"

@@ -1,4 +1,4 @@
-// The pieces `skidsim bench report` (apps/perf_report.h) builds its page
+// The pieces `skidsim bench report` (report/perf_report.h) builds its page
 // from: a ladder's rung, its table and its SVG plot, the observed order of
 // convergence read from a ladder, and a section of the page. Each family of
 // cases (apps/perf_*.cpp) returns a ReportSection; write_perf_report puts

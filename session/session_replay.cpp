@@ -1,5 +1,7 @@
 #include "session/session_replay.h"
 
+#include "session/control_message.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -187,14 +189,7 @@ Replay load_replay(const std::string& path, const io::Exercise& ex, const Sessio
     if (!valid)
       throw io::InputError(where + "an applied control out of range or not finite at " + std::to_string(e.timestamp_us) +
                            " us (tick " + std::to_string(tick) + ")");
-    vehicle::LoaderControls c;
-    c.drive_left = m.drive_left;
-    c.drive_right = m.drive_right;
-    c.lift = m.lift;
-    c.tilt = m.tilt;
-    c.throttle = m.throttle;
-    c.parking_brake = m.parking_brake;
-    replay.controls.push_back(c);
+    replay.controls.push_back(to_controls(m));
   }
   if (replay.controls.empty()) throw io::InputError(path + ": no applied controls on " + applied);
   // Every session's log ends with its "end" event (run_session writes it

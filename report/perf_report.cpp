@@ -1,4 +1,4 @@
-#include "apps/perf_report.h"
+#include "report/perf_report.h"
 
 #include <unistd.h>
 

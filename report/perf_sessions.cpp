@@ -4,12 +4,10 @@
 // LCM log; no rendering, no network), at the soil's cell sizes; and the
 // thesis's table 9.3 (the whole simulator's frame rates by cells per metre)
 // beside the same sessions at its densities.
-#include <tinyxml2.h>
-
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -17,7 +15,9 @@
 #include <vector>
 
 #include "report/perf_report_parts.h"
-#include "apps/run_job.h"
+#include "io/loader_files.h"
+#include "io/operator_script.h"
+#include "session/session.h"
 #include "io/soil_table.h"
 
 namespace skidsim::apps::perf {
@@ -35,38 +35,33 @@ struct SessionRun {
 
 fs::path scenarios_dir() { return fs::path(io::default_assets_dir()).parent_path() / "scenarios"; }
 
-// pile_to_zone.xml with its soil's cells set to `cell_m`, run in fast mode by
-// its operator script for at most `max_s` simulated seconds (0: until the
-// script or the tasks are done, as `skidsim run` ends it).
-SessionRun whole_session(const ReportContext& ctx, double cell_m, double max_s) {
-  const std::string tag = fmt("%.0f", 1e4 * cell_m);  // tenths of a millimetre: unique per rung
-  tinyxml2::XMLDocument doc;
-  const fs::path source = scenarios_dir() / "pile_to_zone.xml";
-  if (doc.LoadFile(source.string().c_str()) != tinyxml2::XML_SUCCESS)
-    throw std::runtime_error("performance report: cannot read " + source.string());
-  tinyxml2::XMLElement* site = doc.RootElement() ? doc.RootElement()->FirstChildElement("site") : nullptr;
-  tinyxml2::XMLElement* soil = site ? site->FirstChildElement("soil") : nullptr;
-  if (!soil) throw std::runtime_error("performance report: " + source.string() + " has no <site><soil>");
-  soil->SetAttribute("cell_m", cell_m);
-  const fs::path exercise = ctx.work_dir / ("pile_to_zone_" + tag + ".xml");
-  if (doc.SaveFile(exercise.string().c_str()) != tinyxml2::XML_SUCCESS)
-    throw std::runtime_error("performance report: cannot write " + exercise.string());
-  RunJob job;
-  job.exercise_path = exercise.string();
-  job.script_path = (scenarios_dir() / "pile_to_zone.operator.xml").string();
-  job.mode = "fast";
-  job.max_s = max_s;
-  job.out_dir = (ctx.work_dir / ("session_" + tag)).string();
-  if (run_session(job) != 0) throw std::runtime_error("performance report: the session at " + fmt("%g", cell_m) + " m failed");
-  std::ifstream in(fs::path(job.out_dir) / "report.json");
-  const nlohmann::json r = nlohmann::json::parse(in);
+// pile_to_zone.xml with its soil's cells set to `cell_m` (in memory), played
+// in fast mode by its operator script for at most `max_s` simulated seconds
+// (0: until the script or the tasks are done, as `skidsim run` ends it),
+// through the session library as `skidsim run` drives it, less the log.
+SessionRun whole_session(double cell_m, double max_s) {
+  io::Exercise ex = io::load_exercise((scenarios_dir() / "pile_to_zone.xml").string());
+  if (ex.soils.empty()) throw std::runtime_error("performance report: pile_to_zone.xml has no <soil>");
+  ex.soils.front().cell_m = cell_m;
+  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
+  SessionOptions options;
+  options.limit_s = max_s;
+  Session session(ex, loader, io::load_soil_table(io::default_soil_table_path()), options);
+  ScriptOperator script(io::load_operator_script((scenarios_dir() / "pile_to_zone.operator.xml").string()));
+  const auto wall_start = std::chrono::steady_clock::now();  // the session's run, as skidsim run reports it
+  SessionOutput nowhere;
+  std::string end_reason;
+  while (end_reason.empty())
+    end_reason = session.tick(false, [&](const skidsim_lcm::state_t& st, long, double t) { return script.decide(st, t); },
+                              nowhere);
+  session.finish(end_reason, nowhere);
   SessionRun s;
-  s.simulated_s = r["performance"]["simulated_s"].get<double>();
-  s.wall_s = r["performance"]["wall_time_s"].get<double>();
-  s.real_time_factor = r["performance"]["real_time_factor"].get<double>();
-  s.end_reason = r["end_reason"].get<std::string>();
-  s.moved_kg = r["metrics"].value("material_moved_kg", 0.0);
-  s.tasks_done = r["result"]["all_tasks_done"].get<bool>();
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  s.simulated_s = session.world().time_s();
+  s.real_time_factor = s.wall_s > 0.0 ? s.simulated_s / s.wall_s : 0.0;
+  s.end_reason = end_reason;
+  s.moved_kg = session.tasks().metrics().material_moved_kg;
+  s.tasks_done = session.tasks().all_done();
   return s;
 }
 
@@ -103,7 +98,7 @@ std::string drawing_figure(bool quick) {
 ReportSection sessions_section(const ReportContext& ctx) {
   // The quick run: the first 10 s of the two coarsest rungs.
   const double max_s = ctx.quick ? 10.0 : 0.0;
-  // 1.25 cm only if the budget allows (VALIDATION.md asks for 20 to 2.5 cm).
+  // 1.25 cm only if the budget allows (the ladder runs 20 to 2.5 cm).
   const std::vector<double> ladder =
       ctx.quick ? std::vector<double>{0.2, 0.1} : std::vector<double>{0.2, 0.1, 0.05, 0.025, 0.0125};
   std::map<double, SessionRun> runs;  // by cell size
@@ -111,13 +106,13 @@ ReportSection sessions_section(const ReportContext& ctx) {
   LadderBudget budget(kRungBudgetS);
   for (const double d : ladder) {
     if (!budget.allow(fmt("%g cm", 100.0 * d))) continue;
-    runs[d] = whole_session(ctx, d, max_s);
+    runs[d] = whole_session(d, max_s);
     budget.ran(runs[d].wall_s);
     cells.push_back(d);
   }
   if (!ctx.quick)
     for (const ThesisFrameRates& t : kTable93)
-      if (!runs.count(1.0 / t.cells_per_m)) runs[1.0 / t.cells_per_m] = whole_session(ctx, 1.0 / t.cells_per_m, max_s);
+      if (!runs.count(1.0 / t.cells_per_m)) runs[1.0 / t.cells_per_m] = whole_session(1.0 / t.cells_per_m, max_s);
 
   std::string md =
       "## Whole sessions\n\nThe pile-to-zone exercise (800 kg of sand from a pile to a zone on a 12 m x 12 m dry-sand site in a "
