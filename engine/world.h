@@ -1,4 +1,4 @@
-// The world of one session and its fixed 2 ms step (ARCHITECTURE.md, "One
+// The world of one session and its fixed 2 ms step (docs/architecture.md, "The
 // 2 ms step"): controls -> hydraulics and drive -> tyre and terrain forces ->
 // Bullet step -> read back. Firm ground and static obstacles are Bullet
 // rigid bodies; the loader is a Featherstone multibody.

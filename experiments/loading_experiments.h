@@ -1,9 +1,9 @@
 // Loading experiments with a closed-form reference, run on the terrain alone
 // (a TranslatingBody, no multibody engine): the plate-loading test behind
 // Bekker's pressure-sinkage law (3.19; thesis 7.3.1, table 7.6, fig. 7.10)
-// and a rigid wheel against Bekker's rigid-wheel sinkage (LOADER.md). The
-// terrain tests assert their results and the speed-against-error report
-// times them over cell sizes.
+// and a rigid wheel against Bekker's rigid-wheel sinkage (docs/performance.md,
+// "Wheel sinkage"). The terrain tests assert their results and the
+// speed-against-error report times them over cell sizes.
 #pragma once
 
 #include "terrain/granular_grid.h"
@@ -34,9 +34,9 @@ PlateLoadingRun run_plate_loading(GranularGrid& grid, const SoilMechanics& soil,
                                   double step_dt_s);
 
 // Bekker's rigid-wheel sinkage z0 = [3 W / ((3 - n)(k_c + b k_phi)
-// sqrt(D))]^(2/(2n+1)) (LOADER.md): the load carried on the front half of
-// the contact only, as for a towed wheel. A standing wheel is carried by
-// both halves and sinks 2^(-2/(2n+1)) of it.
+// sqrt(D))]^(2/(2n+1)) (docs/performance.md, "Wheel sinkage"): the load
+// carried on the front half of the contact only, as for a towed wheel. A
+// standing wheel is carried by both halves and sinks 2^(-2/(2n+1)) of it.
 double bekker_rigid_wheel_depth_m(const SoilMechanics& soil, double load_N, double radius_m, double width_m);
 
 // A rigid wheel of `mass_kg` on `grid`, a flat layer `layer_top_m` high,

@@ -1,8 +1,9 @@
-// The operator's controls as they come in (EXERCISES.md, "LCM"; step 1 of
-// ARCHITECTURE.md's 2 ms step): each message is validated, out-of-range
-// values clamped, NaN and stale messages rejected, all counted; a watchdog
-// returns the levers to neutral and sets the parking brake when valid
-// commands stop arriving (the operator gone), and records it.
+// The operator's controls as they come in (README, "File formats"; the
+// control tick that feeds the 2 ms step, docs/architecture.md): each message
+// is validated, out-of-range values clamped, NaN and stale messages
+// rejected, all counted; a watchdog returns the levers to neutral and sets
+// the parking brake when valid commands stop arriving (the operator gone),
+// and records it.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// The exercise file (EXERCISES.md): one XML file says everything a training
+// The exercise file: one XML file says everything a training
 // session needs, and nothing it does not (a driving course on firm ground
 // has no soil element, and no soil automaton is built). Plain data; the
 // session runner builds the world from it. Reference: docs/exercises.md.
@@ -120,7 +120,7 @@ struct Event {
   std::string message;  // shown to the trainee (an event on the timeline)
 };
 struct Metric {
-  std::string name;  // one of the scoring metrics of EXERCISES.md
+  std::string name;  // one of the scoring metrics of docs/exercises.md
   double weight = 1.0;
 };
 struct Scoring {
@@ -159,7 +159,7 @@ struct Exercise {
 
 // Task type names as written in the file ("move_material", ...).
 const char* task_type_name(Task::Type type);
-// The metrics an exercise may score (EXERCISES.md, "Scoring").
+// The metrics an exercise may score (docs/exercises.md, "Elements").
 const std::vector<std::string>& known_metrics();
 
 // Reads and validates an exercise: unknown elements and attributes, values

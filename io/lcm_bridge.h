@@ -1,8 +1,9 @@
-// The simulator's side of LCM (EXERCISES.md, "LCM"): controls in on one
-// channel (into a ControlInput), state and events out on two others. A real
-// LCM provider: UDP multicast on this host by default
-// (udpm://239.255.76.67:7667?ttl=0), memq:// in-process for tests. Message
-// handling happens in poll(), between steps, never inside the 2 ms step.
+// The simulator's side of LCM (docs/architecture.md, "A session"; the
+// messages: README, "File formats"): controls in on one channel (into a
+// ControlInput), state and events out on two others. A real LCM provider:
+// UDP multicast on this host by default (udpm://239.255.76.67:7667?ttl=0),
+// memq:// in-process for tests. Message handling happens in poll(), between
+// steps, never inside the 2 ms step.
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>

@@ -1,4 +1,4 @@
-// Operator scripts (EXERCISES.md): what a scripted operator does, phase by
+// Operator scripts: what a scripted operator does, phase by
 // phase. Levers held or ramped for a time, and closed-loop phases a trainer
 // would name (drive to a point, lower the bucket, advance until full,
 // raise, dump, reverse). Played by session/operator_player.h; reference in

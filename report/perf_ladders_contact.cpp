@@ -1,6 +1,6 @@
-// Speed against error for bodies on the soil (VALIDATION.md 4 and 7): a
-// rigid plate settling to Bekker's depth (3.19) and a rigid wheel against
-// Bekker's rigid-wheel sinkage, each over cell sizes of 20 cm to 1.25 cm.
+// Speed against error for bodies on the soil (docs/validation.md, cases 4
+// and 7): a rigid plate settling to Bekker's depth (3.19) and a rigid wheel
+// against Bekker's rigid-wheel sinkage, each over cell sizes of 20 cm to 1.25 cm.
 // Set up as their tests set them up (tests/terrain_plate_sinkage_test.cpp),
 // with the same translating body (experiments/translating_body.h), so the page's
 // errors are the ones the tests bound.
@@ -63,7 +63,7 @@ TimedRun settle_plate(const SoilMechanics& soil, double mass_kg, double cells_pe
   return {r.sinkage_m, r.simulated_s, seconds_since(start)};
 }
 
-// --- Rigid wheel (Bekker; LOADER.md) ---------------------------------------------
+// --- Rigid wheel (Bekker) --------------------------------------------------------
 
 constexpr double kWheelRadiusM = 0.3, kWheelWidthM = 0.3, kWheelMassKg = 600.0;
 

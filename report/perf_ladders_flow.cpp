@@ -1,7 +1,7 @@
-// Speed against error for the automaton's own references (VALIDATION.md 3
-// and 6): the BCRE diffusion of a bump on a flowing slope, over cell sizes
-// and over the avalanche sweep's sub-steps, and the load a settled pile puts
-// on its base. Each case is set up as its test sets it up
+// Speed against error for the automaton's own references (docs/validation.md,
+// cases 3 and 6): the BCRE diffusion of a bump on a flowing slope, over cell
+// sizes and over the avalanche sweep's sub-steps, and the load a settled
+// pile puts on its base. Each case is set up as its test sets it up
 // (tests/terrain_bcre_test.cpp, tests/terrain_load_spreading_test.cpp), so
 // the page's errors are the ones the tests bound.
 #include <algorithm>

@@ -1,4 +1,4 @@
-// `skidsim bench report`: speed against error (VALIDATION.md), measured in
+// `skidsim bench report`: speed against error (docs/validation.md), measured in
 // this run and written as docs/performance.md with an SVG plot per case:
 // for each accuracy case with a reference, a ladder of cell sizes (and
 // sub-steps where they matter), the error against the reference and the

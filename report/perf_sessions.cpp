@@ -98,7 +98,7 @@ std::string drawing_figure(bool quick) {
 ReportSection sessions_section(const ReportContext& ctx) {
   // The quick run: the first 10 s of the two coarsest rungs.
   const double max_s = ctx.quick ? 10.0 : 0.0;
-  // 1.25 cm only if the budget allows (the ladder runs 20 to 2.5 cm).
+  // 1.25 cm only if the budget allows (docs/validation.md asks for 20 to 2.5 cm).
   const std::vector<double> ladder =
       ctx.quick ? std::vector<double>{0.2, 0.1} : std::vector<double>{0.2, 0.1, 0.05, 0.025, 0.0125};
   std::map<double, SessionRun> runs;  // by cell size

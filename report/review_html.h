@@ -1,4 +1,4 @@
-// The review page of a run directory (EXERCISES.md, "Review"): the recorded
+// The review page of a run directory (docs/rendering.md, "Review"): the recorded
 // frames under a scrubber, the timeline's plots with a marker kept at the
 // scrubber's time, the events (the current one highlighted; a click seeks
 // to it) and the score, term by term. One HTML file beside the frames; its

@@ -1,5 +1,5 @@
-// Safety on a site with people and trucks (issue 9; EXERCISES.md,
-// "Scoring": collisions with people and the truck, near misses): measured
+// Safety on a site with people and trucks (issue 9; docs/exercises.md,
+// the metrics: collisions with people and the truck, near misses): measured
 // every control tick from the world's agents and the machine.
 //
 // The machine's footprint is a capsule around the segment from behind its

@@ -1,6 +1,6 @@
-// A session's tasks, events and metrics at run time (EXERCISES.md, "Scoring";
-// thesis 9.2.2, the exercise manager's evaluation): evaluated from the world
-// once per control tick, never inside the 2 ms step.
+// A session's tasks, events and metrics at run time (docs/exercises.md,
+// "Elements"; thesis 9.2.2, the exercise manager's evaluation): evaluated
+// from the world once per control tick, never inside the 2 ms step.
 #pragma once
 
 #include <Eigen/Geometry>

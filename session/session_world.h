@@ -1,5 +1,5 @@
-// A session's world built from its exercise (EXERCISES.md: "model only what
-// a scene needs"): firm ground, the soil site with its piles, trenches and
+// A session's world built from its exercise (docs/exercises.md; only what a
+// scene needs): firm ground, the soil site with its piles, trenches and
 // banks (none for a course on firm ground), obstacles, truck beds, the
 // machine at its start; and the machine's state as the LCM state message.
 #pragma once

@@ -1,7 +1,7 @@
-// The optional terrain channel (EXERCISES.md, "LCM"): the soil site's
-// surface in square tiles, only those that changed since they were last
-// sent (every tile the first time). Read between control ticks, never in
-// the 2 ms step.
+// The optional terrain channel (SKIDSIM_TERRAIN; README, "File formats"):
+// the soil site's surface in square tiles, only those that changed since
+// they were last sent (every tile the first time). Read between control
+// ticks, never in the 2 ms step.
 #pragma once
 
 #include <vector>

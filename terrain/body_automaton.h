@@ -1,5 +1,5 @@
 // A granular automaton fixed to a moving body (thesis 6.1-6.2,
-// TERRAIN_MODEL.md s. 4): a bucket, a truck bed, a hopper. Its base is the
+// docs/material.md): a bucket, a truck bed, a hopper. Its base is the
 // body's inner surface, its frame moves with the body, and its slopes are the
 // world slopes between surface points, so material slides when the body
 // tilts and spills over the rim.

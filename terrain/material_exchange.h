@@ -1,4 +1,4 @@
-// Material moving between automata (thesis 6.3, 6.4; TERRAIN_MODEL.md s. 4):
+// Material moving between automata (thesis 6.3, 6.4; docs/material.md):
 // the ground grid and the automata fixed to bodies (bucket, truck bed).
 //   - What crosses a body automaton's edge (its imaginary border cells, 6.3.2)
 //     falls from there as a parcel with the body's velocity and lands, after

@@ -1,4 +1,4 @@
-// Terrain-body interaction (thesis ch. 5, TERRAIN_MODEL.md s. 3): each step,
+// Terrain-body interaction (thesis ch. 5, docs/soil_contact.md): each step,
 // for each body near the soil, build its contact map, let the soil carry and
 // resist the body, and change the terrain under it:
 //   - vertical load: Bekker pressure-sinkage (3.19) with an elastic/plastic
@@ -96,7 +96,7 @@ class SoilContactModel {
   int add_soil(const SoilMechanics& soil);
   void set_soil_region(int i, int j, int soil_index);
 
-  // One body, one step (step 3 of ARCHITECTURE.md's 2 ms step): builds the
+  // One body, one step (step 3 of the 2 ms step, docs/architecture.md): builds the
   // body's contact map, updates the terrain under it and returns the soil's
   // reaction. `body_id` in [0, 65535] names the body across steps (its
   // previous map tells how far its interfaces advanced). Allocates only

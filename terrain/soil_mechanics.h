@@ -1,5 +1,5 @@
-// Soil mechanics for bodies touching the terrain (thesis ch. 5, design notes
-// TERRAIN_MODEL.md s. 3): Bekker pressure-sinkage with Wong's
+// Soil mechanics for bodies touching the terrain (thesis ch. 5,
+// docs/soil_contact.md): Bekker pressure-sinkage with Wong's
 // unloading/reloading line, the Mohr-Coulomb shear bound, and the fracture
 // wedge limit of a vertical interface (Perumpral 1983 via Nouguier 2000).
 // Plain functions of plain data, SI units throughout.
@@ -73,7 +73,7 @@ PressureSlope bekker_pressure(const SoilMechanics& soil, double modulus_Pa, doub
                               double sinkage_m);
 
 // Fracture wedge of a vertical interface (5.6), as corrected in
-// TERRAIN_MODEL.md: with tool face angle delta_t = 90 deg,
+// docs/soil_contact.md: with tool face angle delta_t = 90 deg,
 //   F_h = W tan(phi + rho) + 2 F_l cos(phi) / cos(phi + rho),
 //   F_l = tan(phi) (1 - sin(phi)) gamma g H^2 L / 6,  L = H / tan(rho).
 // No soil-tool friction on the face: the interface is vertical by

@@ -1,4 +1,4 @@
-// The exercise file (EXERCISES.md): the shipped scenario reads whole; a
+// The exercise file (docs/exercises.md): the shipped scenario reads whole; a
 // corpus of bad files each gets its error naming the file, the line, the
 // element and what was expected.
 #include <gtest/gtest.h>

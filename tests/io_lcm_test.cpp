@@ -1,4 +1,4 @@
-// The operator's controls over LCM (EXERCISES.md): validation, clamping,
+// The operator's controls over LCM (README, "File formats"): validation, clamping,
 // rejection and counting; the watchdog; the bridge over a real LCM provider
 // (in-process memq://, and UDP multicast on this host).
 #include <gtest/gtest.h>

@@ -56,7 +56,7 @@ TEST(LoaderFiles, ShippedLoaderIsTheThesisMachine) {
   for (const auto& b : d.links[0].collision) rear = std::min(rear, b.pose.position_m.x() - b.half_extents_m.x());
   const double edge = pin_at(0.0).x() + bucket_box.pose.position_m.x() + bucket_box.half_extents_m.x();
   EXPECT_NEAR(edge - rear, 3.27, 0.05 * 3.27);
-  // Bucket width chosen to fit the track (LOADER.md): 1.70 m.
+  // Bucket width chosen to fit the track (docs/loader.md, "The machine"): 1.70 m.
   EXPECT_NEAR(2.0 * bucket_box.half_extents_m.y(), 1.70, 1e-9);
   // Each cylinder's stroke spans its joint's range.
   for (const auto& c : d.cylinders) {

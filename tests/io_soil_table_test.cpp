@@ -15,7 +15,7 @@ TEST(SoilTable, ShippedTableLoadsAndIsValid) {
   const SoilTable table = load_soil_table(default_soil_table_path());
   ASSERT_TRUE(table.count("dry_sand"));
   const SoilRecord& sand = table.at("dry_sand");
-  EXPECT_GE(sand.flow.repose_angle_deg, 30.0);  // design notes: 30-34 deg
+  EXPECT_GE(sand.flow.repose_angle_deg, 30.0);  // the project's estimate: 30-34 deg
   EXPECT_LE(sand.flow.repose_angle_deg, 34.0);
   EXPECT_DOUBLE_EQ(sand.terramechanics.n, 1.1);
   EXPECT_DOUBLE_EQ(sand.terramechanics.k_phi_kN_per_m_n2, 1528.43);

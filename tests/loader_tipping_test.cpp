@@ -50,7 +50,7 @@ TEST(LoaderTipping, StaticTippingLoadMatchesTheMomentBalanceAndTheClass) {
   RecordProperty("moment_balance_kg", std::to_string(balance_kg));
   EXPECT_NEAR(tipping_kg, balance_kg, 0.05 * balance_kg);
   // Its class: wheeled skid steers of 2.3-2.9 t tip at about 0.5-0.6 of their
-  // operating weight (Bobcat S450 about 0.51, S570 0.61; LOADER.md).
+  // operating weight (Bobcat specification sheets: S450 about 0.51, S570 0.61).
   const double ratio = tipping_kg / d.total_mass_kg();
   EXPECT_GT(ratio, 0.45);
   EXPECT_LT(ratio, 0.65);

@@ -1,4 +1,4 @@
-// The stability suite (VALIDATION.md, "Stability on hard cases"): each hard
+// The stability suite (docs/validation.md, "Stability on hard cases"): each hard
 // case must end with finite numbers, material conserved to the quantum, no
 // energy from nowhere (a machine left to itself never ends higher or
 // faster than it started), nothing through the hard base, and no jitter at

@@ -1,7 +1,8 @@
 // BCRE consistency (thesis 4.4.2): in the flowing regime the automaton is a
 // discretisation of dh/dt = v h_r lap(h) for the excess over the repose
 // slope, and its error shrinks as the grid refines. Also the physical check
-// of avalanche speed (TERRAIN_MODEL §2: 0.1-1 m/s for dry sand).
+// of avalanche speed (0.1-1 m/s for dry sand: docs/terrain_model.md, "The flow
+// coefficient from soil data").
 #include <gtest/gtest.h>
 
 #include <vector>

@@ -1,4 +1,4 @@
-// Horizontal push (VALIDATION.md 5; thesis 5.5, 7.3.2): a vertical blade at
+// Horizontal push (docs/validation.md, case 5; thesis 5.5, 7.3.2): a vertical blade at
 // depth H on flat ground meets the fracture wedge limit (5.6); pushed at
 // constant speed, its resistance grows as soil piles up in front (fig.
 // 7.12); material is conserved; pulled back, the pile slumps behind it.

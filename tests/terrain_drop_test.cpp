@@ -1,4 +1,4 @@
-// A hard case (VALIDATION.md, stability): a body hitting soil at 10 m/s.
+// A hard case (docs/validation.md, "Stability on hard cases"): a body hitting soil at 10 m/s.
 // Forces stay finite, the body does not pass through the hard base under
 // 40 cm of soil, it comes to rest without jitter, material is conserved.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// Plate sinkage (VALIDATION.md 4; thesis 7.3.1, table 7.6): a rigid 1 m x 1 m
-// plate loaded with its weight settles at Bekker's depth
+// Plate sinkage (docs/validation.md, case 4; thesis 7.3.1, table 7.6): a
+// rigid 1 m x 1 m plate loaded with its weight settles at Bekker's depth
 // z = (m g / A / (k_c / b + k_phi))^(1/n), for several n, whatever the cell
 // size. The plate's edges do not fall on cell edges, so partly covered cells
 // must carry their share. Then the imprint it leaves and the reload line.
@@ -204,12 +204,12 @@ namespace skidsim::terrain {
 namespace {
 
 // Bekker's rigid-wheel depth z0 = [3 W / ((3 - n)(k_c + b k_phi) sqrt(D))]
-// ^(2/(2n+1)) (LOADER.md) carries the load on the front of the contact only,
-// as for a towed wheel. A wheel standing still is carried by both halves of
-// its contact and sinks 2^(-2/(2n+1)) of z0 (0.65 for n = 1.1): that is
-// asserted within 15 %. A towed wheel must sink deeper than a standing one
-// and not beyond z0 + 15 %; measured, it stays 10-24 % short of z0 (the
-// loader issue's wheel-on-soil work takes this up).
+// ^(2/(2n+1)) (docs/performance.md, "Wheel sinkage") carries the load on the
+// front of the contact only, as for a towed wheel. A wheel standing still is
+// carried by both halves of its contact and sinks 2^(-2/(2n+1)) of z0 (0.65
+// for n = 1.1): that is asserted within 15 %. A towed wheel must sink deeper
+// than a standing one and not beyond z0 + 15 %; measured, it stays 10-24 %
+// short of z0 (the loader issue's wheel-on-soil work takes this up).
 struct WheelRun {
   double sinkage_m = 0.0;
 };

@@ -1,5 +1,5 @@
 // Point pour: the cone's flank settles at the model's repose angle and the
-// cone is round (TERRAIN_MODEL §2; issue evidence).
+// cone is round (docs/terrain_model.md, "The avalanche rule"; issue evidence).
 #include <gtest/gtest.h>
 
 #include "terrain/pile_metrics.h"

@@ -1,4 +1,4 @@
-// Recording (EXERCISES.md, "Outputs"): frames rendered on a thread of their
+// Recording (docs/rendering.md, "Recording"): frames rendered on a thread of their
 // own from snapshots of the world taken at the recording rate, so that
 // rendering never changes the simulation. The session hands over a copy of
 // the scene and goes on; when the recorder is three frames behind, the

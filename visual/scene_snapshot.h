@@ -37,8 +37,8 @@ inline constexpr double kFlowingLayerM = 0.03;
 // flow for its moving texture and the dust.
 void update_scene(const engine::World& world, render::Scene& scene, SceneHistory* history = nullptr);
 
-// cab, chase, aerial or fixed (EXERCISES.md); std::invalid_argument for
-// another name.
+// cab, chase, aerial or fixed (docs/rendering.md, "Cameras"); std::invalid_argument
+// for another name.
 render::Camera exercise_camera(const std::string& name, const io::Exercise& exercise, const engine::World& world);
 
 }  // namespace skidsim::apps
