@@ -79,6 +79,118 @@ struct LogAndLcm : SessionOutput {
   }
 };
 
+// Recording: a snapshot of the scene at each frame's time (between control
+// ticks, 100 a second), handed to the recorder's thread.
+class SessionRecording {
+ public:
+  SessionRecording(const RunJob& job, const io::Exercise& ex, engine::World& world, const std::filesystem::path& staging)
+      : ex_(ex),
+        world_(world),
+        camera_(job.camera.empty() ? ex.recording.camera : job.camera),
+        fps_(job.frame_fps > 0.0 ? job.frame_fps : ex.recording.fps),
+        width_(job.frame_width > 0 ? job.frame_width : ex.recording.width),
+        height_(job.frame_height > 0 ? job.frame_height : ex.recording.height) {
+    if (!(fps_ >= 0.1 && fps_ <= 100.0)) throw io::InputError("--fps: expected 0.1 to 100 frames a second");
+    if (width_ < 16 || height_ < 16 || width_ > 8192 || height_ > 8192)
+      throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
+    if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")
+      throw io::InputError("--render-backend '" + job.render_backend + "': expected auto, egl or osmesa");
+    try {
+      (void)exercise_camera(camera_, ex, world);
+    } catch (const std::invalid_argument& e) {
+      throw io::InputError(std::string("--camera: ") + e.what());
+    }
+    std::filesystem::create_directories(staging / "frames");
+    scene_ = static_scene(ex, world);
+    if (world.terrain()) world.terrain()->record_flow(true);  // for the sand's moving texture; the state is untouched
+    try {
+      recorder_ = std::make_unique<FrameRecorder>((staging / "frames").string(), width_, height_, job.render_backend);
+    } catch (const std::runtime_error& e) {  // no OpenGL: refused before the session starts
+      throw io::InputError(std::string("--record: ") + e.what());
+    }
+  }
+  // Between a tick's books and its steps: a frame when one is due.
+  void at_tick() {
+    if (world_.time_s() < next_frame_s_ - 1e-9) return;
+    update_scene(world_, scene_, &history_);
+    recorder_->submit(scene_, exercise_camera(camera_, ex_, world_));
+    next_frame_s_ += 1.0 / fps_;
+  }
+  // The recorder's last frames written, the video encoded: the report's part.
+  json finish(const std::filesystem::path& staging) {
+    const std::string error = recorder_->finish();
+    if (!error.empty()) std::fprintf(stderr, "skidsim: recording stopped: %s (the session is kept)\n", error.c_str());
+    return {{"frames", recorder_->frames_written()}, {"fps", fps_}, {"camera", camera_}, {"dir", "frames"},
+            {"width", width_}, {"height", height_}, {"renderer", recorder_->renderer()},
+            {"video", encode_video(staging.string(), fps_)}, {"error", error}};
+  }
+
+ private:
+  const io::Exercise& ex_;
+  engine::World& world_;
+  std::string camera_;
+  double fps_;
+  int width_, height_;
+  std::unique_ptr<FrameRecorder> recorder_;
+  render::Scene scene_;
+  SceneHistory history_;
+  double next_frame_s_ = 0.0;
+};
+
+// The operator over LCM: the newest valid command (realtime), or the one
+// stamped for this tick (lockstep: the operator gets this tick's state first
+// and the session waits for its answer, up to the watchdog's time; the first
+// one, while the operator starts, up to 5 s, the state sent again every
+// 100 ms).
+class LcmOperator {
+ public:
+  LcmOperator(io::ControlInput& input, io::LcmBridge& bridge, bool lockstep, double watchdog_s)
+      : input_(input), bridge_(bridge), lockstep_(lockstep), watchdog_s_(watchdog_s) {}
+  TickDecision decide(const skidsim_lcm::state_t& state, long step, double t) {
+    TickDecision d;
+    if (lockstep_) {
+      input_.await_step(step);
+      bridge_.publish_state(state);
+      const bool first = step == 0;
+      const auto start = std::chrono::steady_clock::now();
+      const auto deadline = start + (first ? std::chrono::milliseconds(5000)
+                                           : std::chrono::milliseconds(static_cast<int>(1000.0 * watchdog_s_)));
+      auto resend = start + std::chrono::milliseconds(100);
+      while (input_.last_sim_step() != step && std::chrono::steady_clock::now() < deadline) {
+        bridge_.wait(5, t);
+        if (first && std::chrono::steady_clock::now() > resend) {
+          bridge_.publish_state(state);
+          resend += std::chrono::milliseconds(100);
+        }
+      }
+      if (input_.last_sim_step() != step) {
+        ++missed_ticks_;
+        ++missed_in_a_row_;
+      } else {
+        missed_in_a_row_ = 0;
+      }
+      d.controls = input_.controls(t);
+      // The operator has gone (or finished): a lockstep session cannot go on.
+      if (missed_in_a_row_ >= kMissedTicksToEnd) d.end_now = "operator_gone";
+    } else {
+      bridge_.poll(t);
+      d.controls = input_.controls(t);
+    }
+    d.watchdog_tripped = input_.stats().watchdog_trips > watchdog_trips_seen_;
+    watchdog_trips_seen_ = input_.stats().watchdog_trips;
+    return d;
+  }
+  long missed_ticks() const { return missed_ticks_; }
+
+ private:
+  io::ControlInput& input_;
+  io::LcmBridge& bridge_;
+  bool lockstep_;
+  double watchdog_s_;
+  long missed_ticks_ = 0, missed_in_a_row_ = 0;
+  std::int64_t watchdog_trips_seen_ = 0;
+};
+
 }  // namespace
 
 int run_session(const RunJob& job) {
@@ -142,95 +254,25 @@ int run_session(const RunJob& job) {
   if (bridge) bridge->record_controls_to(&log);
   LogAndLcm output(log, bridge.get(), channels, mode != "lockstep");
 
-  // Recording: a snapshot of the scene at each frame's time, handed to the
-  // recorder's thread.
-  std::unique_ptr<FrameRecorder> recorder;
-  render::Scene scene;
-  SceneHistory scene_history;
-  const std::string camera_name = job.camera.empty() ? ex.recording.camera : job.camera;
-  const double fps = job.frame_fps > 0.0 ? job.frame_fps : ex.recording.fps;
-  const int fw = job.frame_width > 0 ? job.frame_width : ex.recording.width;
-  const int fh = job.frame_height > 0 ? job.frame_height : ex.recording.height;
-  double next_frame_s = 0.0;
-  if (job.record) {
-    // Frames are taken between control ticks (100 a second).
-    if (!(fps >= 0.1 && fps <= 100.0)) throw io::InputError("--fps: expected 0.1 to 100 frames a second");
-    if (fw < 16 || fh < 16 || fw > 8192 || fh > 8192) throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
-    if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")
-      throw io::InputError("--render-backend '" + job.render_backend + "': expected auto, egl or osmesa");
-    try {
-      (void)exercise_camera(camera_name, ex, world);
-    } catch (const std::invalid_argument& e) {
-      throw io::InputError(std::string("--camera: ") + e.what());
-    }
-    std::filesystem::create_directories(run_dir.staging() / "frames");
-    scene = static_scene(ex, world);
-    if (world.terrain()) world.terrain()->record_flow(true);  // for the sand's moving texture; the state is untouched
-    try {
-      recorder = std::make_unique<FrameRecorder>((run_dir.staging() / "frames").string(), fw, fh, job.render_backend);
-    } catch (const std::runtime_error& e) {  // no OpenGL: refused before the session starts
-      throw io::InputError(std::string("--record: ") + e.what());
-    }
-  }
-  const auto record_frame = [&] {
-    if (recorder && world.time_s() >= next_frame_s - 1e-9) {
-      update_scene(world, scene, &scene_history);
-      recorder->submit(scene, exercise_camera(camera_name, ex, world));
-      next_frame_s += 1.0 / fps;
-    }
-  };
+  std::unique_ptr<SessionRecording> recording;
+  if (job.record) recording = std::make_unique<SessionRecording>(job, ex, world, run_dir.staging());
 
   // Each tick's controls: a replay's, the script's, or the operator's over LCM.
-  long missed_ticks = 0, missed_in_a_row = 0;
-  std::int64_t watchdog_trips_seen = 0;
+  std::unique_ptr<LcmOperator> live;
+  if (!player && !replaying) live = std::make_unique<LcmOperator>(input, *bridge, mode == "lockstep", ex.operator_source.watchdog_s);
   const DecideControls decide = [&](const skidsim_lcm::state_t& state, long step, double t) {
     TickDecision d;
     if (jobs::interrupting_signal() != 0) {
       d.end_now = "interrupted";
-      return d;
-    }
-    if (replaying) {
+    } else if (replaying) {
       const auto tick = static_cast<std::size_t>(step / kStepsPerTick);
       if (tick >= replay.size()) d.end_now = "replay_done";
       else d.controls = replay[tick];
-      return d;
-    }
-    if (player) return player->decide(state, t);
-    if (mode == "lockstep") {
-      // The operator gets this tick's state first and answers with the
-      // command stamped for it; the simulator waits for it (up to the
-      // watchdog; the first one, while the operator starts, up to 5 s, the
-      // state sent again every 100 ms).
-      input.await_step(step);
-      bridge->publish_state(state);
-      const bool first = step == 0;
-      const auto start = std::chrono::steady_clock::now();
-      const auto deadline =
-          start + (first ? std::chrono::milliseconds(5000)
-                         : std::chrono::milliseconds(static_cast<int>(1000.0 * ex.operator_source.watchdog_s)));
-      auto resend = start + std::chrono::milliseconds(100);
-      while (input.last_sim_step() != step && std::chrono::steady_clock::now() < deadline) {
-        bridge->wait(5, t);
-        if (first && std::chrono::steady_clock::now() > resend) {
-          bridge->publish_state(state);
-          resend += std::chrono::milliseconds(100);
-        }
-      }
-      if (input.last_sim_step() != step) {
-        ++missed_ticks;
-        ++missed_in_a_row;
-      } else {
-        missed_in_a_row = 0;
-      }
-      d.controls = input.controls(t);
-      // The operator has gone (or finished): a lockstep session cannot go on.
-      if (missed_in_a_row >= kMissedTicksToEnd) d.end_now = "operator_gone";
+    } else if (player) {
+      d = player->decide(state, t);
     } else {
-      bridge->poll(t);
-      d.controls = input.controls(t);
+      d = live->decide(state, step, t);
     }
-    d.watchdog_tripped = input.stats().watchdog_trips > watchdog_trips_seen;
-    watchdog_trips_seen = input.stats().watchdog_trips;
     return d;
   };
 
@@ -238,19 +280,14 @@ int run_session(const RunJob& job) {
   const auto wall_start = std::chrono::steady_clock::now();
   std::string end_reason;
   while (end_reason.empty()) {
-    end_reason = session.tick(!player && input.neutral(), decide, output, record_frame);
+    end_reason = session.tick(!player && input.neutral(), decide, output, [&] {
+      if (recording) recording->at_tick();
+    });
     if (mode == "realtime") std::this_thread::sleep_until(wall_start + std::chrono::duration<double>(world.time_s()));
     progress.update(world.time_s(), session.tasks().tasks().empty() ? "" : session.tasks().tasks().front().detail);
   }
   progress.finish();
-  json recording = nullptr;
-  if (recorder) {
-    const std::string recording_error = recorder->finish();
-    if (!recording_error.empty()) std::fprintf(stderr, "skidsim: recording stopped: %s (the session is kept)\n", recording_error.c_str());
-    recording = {{"frames", recorder->frames_written()}, {"fps", fps}, {"camera", camera_name}, {"dir", "frames"},
-                 {"width", fw}, {"height", fh}, {"renderer", recorder->renderer()},
-                 {"video", encode_video(run_dir.staging().string(), fps)}, {"error", recording_error}};
-  }
+  const json recorded = recording ? recording->finish(run_dir.staging()) : json(nullptr);
   session.finish(end_reason, output);
   const double wall_s = progress.wall_seconds(), sim_s = world.time_s();
   const SessionTasks& tasks = session.tasks();
@@ -261,11 +298,11 @@ int run_session(const RunJob& job) {
                        : player  ? "script " + script_path
                                  : "lcm " + url + " channel " + channels.control;
   if (player) report["result"]["script_phases_timed_out"] = player->player().timed_out();
-  report["recording"] = recording;
+  report["recording"] = recorded;
   report["controls"] = {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},
                         {"rejected_stale", cs.rejected_stale}, {"rejected_tick", cs.rejected_tick},
                         {"malformed", cs.malformed}, {"watchdog_trips", cs.watchdog_trips}};
-  report["lockstep_missed_ticks"] = missed_ticks;
+  report["lockstep_missed_ticks"] = live ? live->missed_ticks() : 0;
   report["performance"] = {{"simulated_s", sim_s}, {"wall_time_s", wall_s},
                            {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0}};
   report["files"] = {{"lcm_log", "session.lcmlog"}, {"report_html", "report.html"},
