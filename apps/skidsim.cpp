@@ -210,6 +210,210 @@ int list_soils(const std::string& path) {
   return 0;
 }
 
+// Every command's options and the values they fill.
+struct Commands {
+  skidsim::apps::PourJob pour{};
+  skidsim::apps::PushJob push{};
+  skidsim::apps::DigJob dig{};
+  skidsim::apps::RunJob run{};
+  skidsim::apps::RenderJob render_job{};
+  skidsim::apps::ReviewJob review_job{};
+  skidsim::apps::BatchJob batch_job{};
+  skidsim::apps::OperatorJob operator_job{};
+  bool bench_json = false;
+  double bench_min_time = 0.0;
+  skidsim::apps::PerfReportJob report_job{};
+  std::string loader_path = skidsim::io::default_loader_path();
+  std::string check_path{};
+  bool check_json = false;
+  std::string soil_table = skidsim::io::default_soil_table_path();
+  std::string bench_filter;
+  std::string bench_out;
+  CLI::App* pour_cmd = nullptr;
+  CLI::App* push_cmd = nullptr;
+  CLI::App* dig_cmd = nullptr;
+  CLI::App* run_cmd = nullptr;
+  CLI::App* render_cmd = nullptr;
+  CLI::App* review_cmd = nullptr;
+  CLI::App* batch_cmd = nullptr;
+  CLI::App* operator_cmd = nullptr;
+  CLI::App* bench_cmd = nullptr;
+  CLI::App* report_cmd = nullptr;
+  CLI::App* check_cmd = nullptr;
+  CLI::App* soils_cmd = nullptr;
+};
+
+// The batch jobs: pour, push, dig.
+void add_job_commands(CLI::App& app, Commands& c) {
+
+  c.pour_cmd = app.add_subcommand(
+      "pour", "Pour sand from a hopper onto a site, let it settle, and write a run directory\n"
+              "(summary.json, final terrain as 16-bit PNG height maps with JSON metadata)");
+  add_job_options(c.pour_cmd, c.pour.out_dir, c.pour.soil_id, c.pour.soil_table_path);
+  c.pour_cmd->add_option("--site-m", c.pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(number_in(1e-6, 1e12));
+  c.pour_cmd->add_option("--cell-m", c.pour.cell_size_m, "Cell size, m")->capture_default_str()->check(number_in(1e-6, 1e12));
+  c.pour_cmd->add_option("--layer-m", c.pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(number_in(0.0, 1000.0));
+  c.pour_cmd->add_option("--rate-kg-s", c.pour.pour_rate_kg_per_s, "Hopper flow, kg/s")->capture_default_str()->check(number_in(0.0, 1e12));
+  c.pour_cmd->add_option("--pour-s", c.pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(number_in(0.0, 86400.0));
+  c.pour_cmd->add_option("--hopper-m", c.pour.hopper_radius_m, "Hopper outlet radius, m")->capture_default_str()->check(number_in(0.0, 1000.0));
+  c.pour_cmd->add_option("--settle-s", c.pour.max_settle_s, "Longest settling time after the pour, s")->capture_default_str()->check(number_in(0.0, 86400.0));
+  c.pour_cmd->add_option("--material-map", c.pour.material_map_path,
+                       "Initial material depth: a height map's JSON (quantity \"material\"), e.g. a previous run's "
+                       "terrain_material.json; sets the grid")
+      ->check(CLI::ExistingFile);
+  c.pour_cmd->add_option("--base-map", c.pour.base_map_path,
+                       "Hard base relief: a height map's JSON (quantity \"base\"); sets the grid")
+      ->check(CLI::ExistingFile);
+  c.pour_cmd->add_flag("--open-edges", c.pour.open_edges, "Site edges are drop-offs (material leaving is counted off-site) instead of walls");
+
+  c.push_cmd = app.add_subcommand(
+      "push", "Push a vertical blade through a flat layer of soil and record its resistance along the push\n"
+              "(the thesis's fig. 7.12): summary.json, resistance.csv, the final terrain height map");
+  add_job_options(c.push_cmd, c.push.out_dir, c.push.soil_id, c.push.soil_table_path);
+  c.push_cmd->add_option("--cells-per-m", c.push.cells_per_m, "Grid density, cells per metre")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.push_cmd->add_option("--layer-m", c.push.layer_m, "Depth of the flat layer of soil, m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.push_cmd->add_option("--depth-m", c.push.depth_m, "Blade edge below the surface (H), m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.push_cmd->add_option("--width-m", c.push.width_m, "Blade width (B), m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.push_cmd->add_option("--speed-m-s", c.push.speed_m_s, "Push speed, m/s")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.push_cmd->add_option("--distance-m", c.push.distance_m, "Length of the push, m")->capture_default_str()->check(number_in(-1e300, 1e300));
+
+  c.dig_cmd = app.add_subcommand(
+      "dig", "The loader fills its bucket from a sand bank, carries the load to a truck bed and dumps it,\n"
+             "driven by a built-in scripted operator: summary.json (masses, books), phases.csv, height maps");
+  add_job_options(c.dig_cmd, c.dig.out_dir, c.dig.soil_id, c.dig.soil_table_path);
+  c.dig_cmd->add_option("--cells-per-m", c.dig.cells_per_m, "Grid density of the site and the bucket, cells per metre")
+      ->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.dig_cmd->add_option("--bank-m", c.dig.bank_height_m, "Height of the sand bank, m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.dig_cmd->add_option("--loader", c.dig.loader_path, "Loader parameter file (default: the shipped loader)");
+}
+
+// A session: run.
+void add_session_command(CLI::App& app, Commands& c) {
+  c.run_cmd = app.add_subcommand(
+      "run", "Run a training session from an exercise file: its world, operator (a script, or commands over\n"
+             "LCM), tasks and score; writes a run directory (report.json, report.html, session.lcmlog, final terrain)");
+  c.run_cmd->add_option("exercise", c.run.exercise_path, "Exercise file")->required();
+  c.run_cmd->add_option("--out", c.run.out_dir, "Run directory to write")->capture_default_str();
+  c.run_cmd->add_option("--script", c.run.script_path, "Operator script (default: the exercise's operator)");
+  c.run_cmd->add_option("--lcm", c.run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
+  c.run_cmd->add_option("--mode", c.run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
+  // 0 is refused rather than read as "no limit": a session always ends.
+  c.run_cmd->add_option("--max-s", c.run.max_s, "Stop after this much simulated time, 0.001 to 86400 s (default: the exercise's limit)")
+      ->check(number_in(0.001, 86400.0));
+  c.run_cmd->add_flag("--record", c.run.record,
+                    "Render frames (the exercise's <record>: rate, camera, size) into RUN/frames on a second thread;\n"
+                    "a video too (session.mp4) when ffmpeg is on the PATH");
+  c.run_cmd->add_option("--camera", c.run.camera, "With --record: cab, chase, aerial or fixed (default: the exercise's)");
+  c.run_cmd->add_option("--frame-width", c.run.frame_width, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
+  c.run_cmd->add_option("--frame-height", c.run.frame_height, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
+  c.run_cmd->add_option("--fps", c.run.frame_fps, "With --record: frames a second (default: the exercise's)")->check(number_in(0.1, 100.0));
+  c.run_cmd->add_option("--render-backend", c.run.render_backend, "With --record: auto, egl or osmesa")->capture_default_str();
+  c.run_cmd->add_flag("--terrain-tiles", c.run.terrain_tiles,
+                    "Also send the soil's surface over LCM and to the log (SKIDSIM_TERRAIN): every 32 x 32 tile\n"
+                    "at the start, then those that changed, every 0.5 s and at the end");
+  c.run_cmd->add_option("--replay", c.run.replay_path,
+                      "Replay a session: the controls its session.lcmlog applied, tick by tick (the same final state)");
+}
+
+// What works on sessions: render, review, batch, operator.
+void add_session_tools(CLI::App& app, Commands& c) {
+  c.render_cmd = app.add_subcommand(
+      "render", "Render one frame of an exercise off-screen (EGL, else OSMesa): its world at the start, or after\n"
+                "its operator script has played for --at-s seconds; from one of its cameras; a PNG");
+  c.render_cmd->add_option("exercise", c.render_job.exercise_path, "Exercise file")->required();
+  c.render_cmd->add_option("--out", c.render_job.out_path, "PNG to write")->capture_default_str();
+  c.render_cmd->add_option("--camera", c.render_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
+  c.render_cmd->add_option("--backend", c.render_job.backend, "auto, egl or osmesa")->capture_default_str();
+  c.render_cmd->add_option("--width", c.render_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  c.render_cmd->add_option("--height", c.render_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  c.render_cmd->add_option("--script", c.render_job.script_path, "Operator script to play first");
+  c.render_cmd->add_option("--at-s", c.render_job.at_s, "Simulated seconds of the script to play first")->check(number_in(0.0, 86400.0));
+
+  c.review_cmd = app.add_subcommand(
+      "review", "Build a run directory's review page (review.html: frames under a scrubber in step with the\n"
+                "timeline plots and events, the score term by term) and contact_sheet.png; with --camera or --fps,\n"
+                "first render the session again by replaying its log (frames_<camera>_<fps>fps)");
+  c.review_cmd->add_option("run_dir", c.review_job.run_dir, "Run directory (of skidsim run)")->required();
+  c.review_cmd->add_option("--camera", c.review_job.camera, "Re-render from this camera: cab, chase, aerial or fixed");
+  c.review_cmd->add_option("--fps", c.review_job.fps, "Re-render at this rate (frames a second)")->check(number_in(0.1, 100.0));
+  c.review_cmd->add_option("--width", c.review_job.width, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  c.review_cmd->add_option("--height", c.review_job.height, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  c.review_cmd->add_option("--backend", c.review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
+  c.review_cmd->add_option("--exercise", c.review_job.exercise_path, "The exercise file (default: the one report.json names)");
+
+  c.batch_cmd = app.add_subcommand(
+      "batch", "Run many sessions at once, each `skidsim run` of a line of LIST (its arguments; each needs\n"
+               "--script or --replay), at most --jobs at a time, each into OUT/NNN_exercise; then batch.json");
+  c.batch_cmd->add_option("list", c.batch_job.list_path, "The list: one session's `skidsim run` arguments per line")->required();
+  c.batch_cmd->add_option("--out", c.batch_job.out_dir, "Folder for the run directories and batch.json")->capture_default_str();
+  c.batch_cmd->add_option("--jobs", c.batch_job.jobs, "Sessions at a time (default: the machine's cores)")->check(number_in(0.0, 256.0));
+  c.batch_cmd->add_option("--index", c.batch_job.index, "Run only entry K (1-based): one task of a cluster's array job")->check(number_in(0.0, 1000000.0));
+
+  c.operator_cmd = app.add_subcommand(
+      "operator", "Play an operator script as a process of its own: listen to the simulator's state over LCM and\n"
+                  "answer each with the command for that control tick");
+  c.operator_cmd->add_option("script", c.operator_job.script_path, "Operator script")->required();
+  c.operator_cmd->add_option("--lcm", c.operator_job.lcm_url, "LCM provider (default: udpm on this host, ttl 0)");
+  c.operator_cmd->add_option("--channel", c.operator_job.control_channel, "Control channel")->capture_default_str();
+  c.operator_cmd->add_option("--idle-s", c.operator_job.idle_timeout_s, "Stop when no state came for this long")
+      ->capture_default_str()->check(number_in(0.01, 86400.0));
+}
+
+// bench (and bench report), check, soils.
+void add_tool_commands(CLI::App& app, Commands& c) {
+  c.bench_cmd = app.add_subcommand(
+      "bench", "Run the benchmarks (Google Benchmark): a table by default, --json for machines");
+  c.bench_cmd->add_flag("--json", c.bench_json, "Print JSON instead of a table");
+  c.bench_cmd->add_option("--filter", c.bench_filter, "Regular expression selecting benchmarks");
+  c.bench_cmd->add_option("--min-time", c.bench_min_time, "Minimum seconds per benchmark")->check(number_in(0.0, 3600.0));
+  c.bench_cmd->add_option("--out", c.bench_out, "Also write the results as JSON to this file");
+  c.report_cmd = c.bench_cmd->add_subcommand(
+      "report", "Measure speed against error (ladders of cell sizes, error against each case's reference, cost per\n"
+                "simulated second) and write docs/performance.md with its SVG plots");
+  c.report_cmd->add_option("--out", c.report_job.out_path, "The page to write (the plots go beside it)")->capture_default_str();
+  c.report_cmd->add_flag("--quick", c.report_job.quick, "Short ladders (for a quick look or a test)");
+
+  c.check_cmd = app.add_subcommand(
+      "check", "Validate a file without running it. An exercise: its site, tasks, events, scoring and the\n"
+               "loader it names. A loader (parameter file, its URDF and meshes; the shipped one by default):\n"
+               "what it implies: mass, static tipping load, rated capacity, cycle times, travel speed, push force");
+  c.check_cmd->add_option("file", c.check_path, "An exercise or a loader parameter file");
+  c.check_cmd->add_option("--loader", c.loader_path, "Loader parameter file (its <loader_parameters> names the URDF)")
+      ->capture_default_str();
+  c.check_cmd->add_flag("--json", c.check_json, "Print JSON");
+
+  c.soils_cmd = app.add_subcommand("soils", "List the soils of the soil table");
+  c.soils_cmd->add_option("--table", c.soil_table, "Soil table XML")->capture_default_str();
+}
+
+// A mistyped command is named (CLI11 alone says only that one is required).
+bool known_command(CLI::App& app, const char* name) {
+  std::string names;
+  bool known = false;
+  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    known = known || sub->check_name(name);
+    names += (names.empty() ? "" : ", ") + sub->get_name();
+  }
+  if (!known) std::cerr << "skidsim: unknown command '" << name << "' (expected one of " << names << "; skidsim --help)\n";
+  return known;
+}
+
+int run_command(const Commands& c) {
+  if (*c.pour_cmd) return skidsim::apps::run_pour_job(c.pour);
+  if (*c.push_cmd) return skidsim::apps::run_push_job(c.push);
+  if (*c.dig_cmd) return skidsim::apps::run_dig_job(c.dig);
+  if (*c.run_cmd) return skidsim::apps::run_session(c.run);
+  if (*c.operator_cmd) return skidsim::apps::run_operator(c.operator_job);
+  if (*c.render_cmd) return skidsim::apps::render_frame(c.render_job);
+  if (*c.review_cmd) return skidsim::apps::review_session(c.review_job);
+  if (*c.batch_cmd) return skidsim::apps::run_batch(c.batch_job);
+  if (*c.report_cmd) return skidsim::apps::write_perf_report(c.report_job);
+  if (*c.bench_cmd) return run_bench(c.bench_json, c.bench_filter, c.bench_min_time, c.bench_out);
+  if (*c.soils_cmd) return list_soils(c.soil_table);
+  if (*c.check_cmd) return c.check_path.empty() ? check_loader(c.loader_path, c.check_json) : check_file(c.check_path, c.check_json);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -217,166 +421,13 @@ int main(int argc, char** argv) {
       "skidsim: a headless training simulator for a skid-steer loader working sand and soil.\n"
       "The granular terrain is a cellular automaton (docs/terrain_model.md)."};
   app.require_subcommand(1);
+  Commands c;
+  add_job_commands(app, c);
+  add_session_command(app, c);
+  add_session_tools(app, c);
+  add_tool_commands(app, c);
 
-  skidsim::apps::PourJob pour;
-  CLI::App* pour_cmd = app.add_subcommand(
-      "pour", "Pour sand from a hopper onto a site, let it settle, and write a run directory\n"
-              "(summary.json, final terrain as 16-bit PNG height maps with JSON metadata)");
-  add_job_options(pour_cmd, pour.out_dir, pour.soil_id, pour.soil_table_path);
-  pour_cmd->add_option("--site-m", pour.site_size_m, "Side of the square site, m")->capture_default_str()->check(number_in(1e-6, 1e12));
-  pour_cmd->add_option("--cell-m", pour.cell_size_m, "Cell size, m")->capture_default_str()->check(number_in(1e-6, 1e12));
-  pour_cmd->add_option("--layer-m", pour.layer_depth_m, "Initial flat layer of soil, m")->capture_default_str()->check(number_in(0.0, 1000.0));
-  pour_cmd->add_option("--rate-kg-s", pour.pour_rate_kg_per_s, "Hopper flow, kg/s")->capture_default_str()->check(number_in(0.0, 1e12));
-  pour_cmd->add_option("--pour-s", pour.pour_duration_s, "Pouring time, s")->capture_default_str()->check(number_in(0.0, 86400.0));
-  pour_cmd->add_option("--hopper-m", pour.hopper_radius_m, "Hopper outlet radius, m")->capture_default_str()->check(number_in(0.0, 1000.0));
-  pour_cmd->add_option("--settle-s", pour.max_settle_s, "Longest settling time after the pour, s")->capture_default_str()->check(number_in(0.0, 86400.0));
-  pour_cmd->add_option("--material-map", pour.material_map_path,
-                       "Initial material depth: a height map's JSON (quantity \"material\"), e.g. a previous run's "
-                       "terrain_material.json; sets the grid")
-      ->check(CLI::ExistingFile);
-  pour_cmd->add_option("--base-map", pour.base_map_path,
-                       "Hard base relief: a height map's JSON (quantity \"base\"); sets the grid")
-      ->check(CLI::ExistingFile);
-  pour_cmd->add_flag("--open-edges", pour.open_edges, "Site edges are drop-offs (material leaving is counted off-site) instead of walls");
-
-  skidsim::apps::PushJob push;
-  CLI::App* push_cmd = app.add_subcommand(
-      "push", "Push a vertical blade through a flat layer of soil and record its resistance along the push\n"
-              "(the thesis's fig. 7.12): summary.json, resistance.csv, the final terrain height map");
-  add_job_options(push_cmd, push.out_dir, push.soil_id, push.soil_table_path);
-  push_cmd->add_option("--cells-per-m", push.cells_per_m, "Grid density, cells per metre")->capture_default_str()->check(number_in(-1e300, 1e300));
-  push_cmd->add_option("--layer-m", push.layer_m, "Depth of the flat layer of soil, m")->capture_default_str()->check(number_in(-1e300, 1e300));
-  push_cmd->add_option("--depth-m", push.depth_m, "Blade edge below the surface (H), m")->capture_default_str()->check(number_in(-1e300, 1e300));
-  push_cmd->add_option("--width-m", push.width_m, "Blade width (B), m")->capture_default_str()->check(number_in(-1e300, 1e300));
-  push_cmd->add_option("--speed-m-s", push.speed_m_s, "Push speed, m/s")->capture_default_str()->check(number_in(-1e300, 1e300));
-  push_cmd->add_option("--distance-m", push.distance_m, "Length of the push, m")->capture_default_str()->check(number_in(-1e300, 1e300));
-
-  skidsim::apps::DigJob dig;
-  CLI::App* dig_cmd = app.add_subcommand(
-      "dig", "The loader fills its bucket from a sand bank, carries the load to a truck bed and dumps it,\n"
-             "driven by a built-in scripted operator: summary.json (masses, books), phases.csv, height maps");
-  add_job_options(dig_cmd, dig.out_dir, dig.soil_id, dig.soil_table_path);
-  dig_cmd->add_option("--cells-per-m", dig.cells_per_m, "Grid density of the site and the bucket, cells per metre")
-      ->capture_default_str()->check(number_in(-1e300, 1e300));
-  dig_cmd->add_option("--bank-m", dig.bank_height_m, "Height of the sand bank, m")->capture_default_str()->check(number_in(-1e300, 1e300));
-  dig_cmd->add_option("--loader", dig.loader_path, "Loader parameter file (default: the shipped loader)");
-
-  skidsim::apps::RunJob run;
-  CLI::App* run_cmd = app.add_subcommand(
-      "run", "Run a training session from an exercise file: its world, operator (a script, or commands over\n"
-             "LCM), tasks and score; writes a run directory (report.json, report.html, session.lcmlog, final terrain)");
-  run_cmd->add_option("exercise", run.exercise_path, "Exercise file")->required();
-  run_cmd->add_option("--out", run.out_dir, "Run directory to write")->capture_default_str();
-  run_cmd->add_option("--script", run.script_path, "Operator script (default: the exercise's operator)");
-  run_cmd->add_option("--lcm", run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
-  run_cmd->add_option("--mode", run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
-  // 0 is refused rather than read as "no limit": a session always ends.
-  run_cmd->add_option("--max-s", run.max_s, "Stop after this much simulated time, 0.001 to 86400 s (default: the exercise's limit)")
-      ->check(number_in(0.001, 86400.0));
-  run_cmd->add_flag("--record", run.record,
-                    "Render frames (the exercise's <record>: rate, camera, size) into RUN/frames on a second thread;\n"
-                    "a video too (session.mp4) when ffmpeg is on the PATH");
-  run_cmd->add_option("--camera", run.camera, "With --record: cab, chase, aerial or fixed (default: the exercise's)");
-  run_cmd->add_option("--frame-width", run.frame_width, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
-  run_cmd->add_option("--frame-height", run.frame_height, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
-  run_cmd->add_option("--fps", run.frame_fps, "With --record: frames a second (default: the exercise's)")->check(number_in(0.1, 100.0));
-  run_cmd->add_option("--render-backend", run.render_backend, "With --record: auto, egl or osmesa")->capture_default_str();
-  run_cmd->add_flag("--terrain-tiles", run.terrain_tiles,
-                    "Also send the soil's surface over LCM and to the log (SKIDSIM_TERRAIN): every 32 x 32 tile\n"
-                    "at the start, then those that changed, every 0.5 s and at the end");
-  run_cmd->add_option("--replay", run.replay_path,
-                      "Replay a session: the controls its session.lcmlog applied, tick by tick (the same final state)");
-
-  skidsim::apps::RenderJob render_job;
-  CLI::App* render_cmd = app.add_subcommand(
-      "render", "Render one frame of an exercise off-screen (EGL, else OSMesa): its world at the start, or after\n"
-                "its operator script has played for --at-s seconds; from one of its cameras; a PNG");
-  render_cmd->add_option("exercise", render_job.exercise_path, "Exercise file")->required();
-  render_cmd->add_option("--out", render_job.out_path, "PNG to write")->capture_default_str();
-  render_cmd->add_option("--camera", render_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
-  render_cmd->add_option("--backend", render_job.backend, "auto, egl or osmesa")->capture_default_str();
-  render_cmd->add_option("--width", render_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
-  render_cmd->add_option("--height", render_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
-  render_cmd->add_option("--script", render_job.script_path, "Operator script to play first");
-  render_cmd->add_option("--at-s", render_job.at_s, "Simulated seconds of the script to play first")->check(number_in(0.0, 86400.0));
-
-  skidsim::apps::ReviewJob review_job;
-  CLI::App* review_cmd = app.add_subcommand(
-      "review", "Build a run directory's review page (review.html: frames under a scrubber in step with the\n"
-                "timeline plots and events, the score term by term) and contact_sheet.png; with --camera or --fps,\n"
-                "first render the session again by replaying its log (frames_<camera>_<fps>fps)");
-  review_cmd->add_option("run_dir", review_job.run_dir, "Run directory (of skidsim run)")->required();
-  review_cmd->add_option("--camera", review_job.camera, "Re-render from this camera: cab, chase, aerial or fixed");
-  review_cmd->add_option("--fps", review_job.fps, "Re-render at this rate (frames a second)")->check(number_in(0.1, 100.0));
-  review_cmd->add_option("--width", review_job.width, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
-  review_cmd->add_option("--height", review_job.height, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
-  review_cmd->add_option("--backend", review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
-  review_cmd->add_option("--exercise", review_job.exercise_path, "The exercise file (default: the one report.json names)");
-
-  skidsim::apps::BatchJob batch_job;
-  CLI::App* batch_cmd = app.add_subcommand(
-      "batch", "Run many sessions at once, each `skidsim run` of a line of LIST (its arguments; each needs\n"
-               "--script or --replay), at most --jobs at a time, each into OUT/NNN_exercise; then batch.json");
-  batch_cmd->add_option("list", batch_job.list_path, "The list: one session's `skidsim run` arguments per line")->required();
-  batch_cmd->add_option("--out", batch_job.out_dir, "Folder for the run directories and batch.json")->capture_default_str();
-  batch_cmd->add_option("--jobs", batch_job.jobs, "Sessions at a time (default: the machine's cores)")->check(number_in(0.0, 256.0));
-  batch_cmd->add_option("--index", batch_job.index, "Run only entry K (1-based): one task of a cluster's array job")->check(number_in(0.0, 1000000.0));
-
-  skidsim::apps::OperatorJob operator_job;
-  CLI::App* operator_cmd = app.add_subcommand(
-      "operator", "Play an operator script as a process of its own: listen to the simulator's state over LCM and\n"
-                  "answer each with the command for that control tick");
-  operator_cmd->add_option("script", operator_job.script_path, "Operator script")->required();
-  operator_cmd->add_option("--lcm", operator_job.lcm_url, "LCM provider (default: udpm on this host, ttl 0)");
-  operator_cmd->add_option("--channel", operator_job.control_channel, "Control channel")->capture_default_str();
-  operator_cmd->add_option("--idle-s", operator_job.idle_timeout_s, "Stop when no state came for this long")
-      ->capture_default_str()->check(number_in(0.01, 86400.0));
-
-  bool bench_json = false;
-  std::string bench_filter, bench_out;
-  double bench_min_time = 0.0;
-  CLI::App* bench_cmd = app.add_subcommand(
-      "bench", "Run the benchmarks (Google Benchmark): a table by default, --json for machines");
-  bench_cmd->add_flag("--json", bench_json, "Print JSON instead of a table");
-  bench_cmd->add_option("--filter", bench_filter, "Regular expression selecting benchmarks");
-  bench_cmd->add_option("--min-time", bench_min_time, "Minimum seconds per benchmark")->check(number_in(0.0, 3600.0));
-  bench_cmd->add_option("--out", bench_out, "Also write the results as JSON to this file");
-  skidsim::apps::PerfReportJob report_job;
-  CLI::App* report_cmd = bench_cmd->add_subcommand(
-      "report", "Measure speed against error (ladders of cell sizes, error against each case's reference, cost per\n"
-                "simulated second) and write docs/performance.md with its SVG plots");
-  report_cmd->add_option("--out", report_job.out_path, "The page to write (the plots go beside it)")->capture_default_str();
-  report_cmd->add_flag("--quick", report_job.quick, "Short ladders (for a quick look or a test)");
-
-  std::string loader_path = skidsim::io::default_loader_path();
-  std::string check_path;
-  bool check_json = false;
-  CLI::App* check_cmd = app.add_subcommand(
-      "check", "Validate a file without running it. An exercise: its site, tasks, events, scoring and the\n"
-               "loader it names. A loader (parameter file, its URDF and meshes; the shipped one by default):\n"
-               "what it implies: mass, static tipping load, rated capacity, cycle times, travel speed, push force");
-  check_cmd->add_option("file", check_path, "An exercise or a loader parameter file");
-  check_cmd->add_option("--loader", loader_path, "Loader parameter file (its <loader_parameters> names the URDF)")
-      ->capture_default_str();
-  check_cmd->add_flag("--json", check_json, "Print JSON");
-
-  std::string soil_table = skidsim::io::default_soil_table_path();
-  CLI::App* soils_cmd = app.add_subcommand("soils", "List the soils of the soil table");
-  soils_cmd->add_option("--table", soil_table, "Soil table XML")->capture_default_str();
-
-  // A mistyped command is named (CLI11 alone says only that one is required).
-  if (argc > 1 && argv[1][0] != '-') {
-    std::string names;
-    bool known = false;
-    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
-      known = known || sub->check_name(argv[1]);
-      names += (names.empty() ? "" : ", ") + sub->get_name();
-    }
-    if (!known) {
-      std::cerr << "skidsim: unknown command '" << argv[1] << "' (expected one of " << names << "; skidsim --help)\n";
-      return 2;
-    }
-  }
+  if (argc > 1 && argv[1][0] != '-' && !known_command(app, argv[1])) return 2;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -385,18 +436,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (*pour_cmd) return skidsim::apps::run_pour_job(pour);
-    if (*push_cmd) return skidsim::apps::run_push_job(push);
-    if (*dig_cmd) return skidsim::apps::run_dig_job(dig);
-    if (*run_cmd) return skidsim::apps::run_session(run);
-    if (*operator_cmd) return skidsim::apps::run_operator(operator_job);
-    if (*render_cmd) return skidsim::apps::render_frame(render_job);
-    if (*review_cmd) return skidsim::apps::review_session(review_job);
-    if (*batch_cmd) return skidsim::apps::run_batch(batch_job);
-    if (*report_cmd) return skidsim::apps::write_perf_report(report_job);
-    if (*bench_cmd) return run_bench(bench_json, bench_filter, bench_min_time, bench_out);
-    if (*soils_cmd) return list_soils(soil_table);
-    if (*check_cmd) return check_path.empty() ? check_loader(loader_path, check_json) : check_file(check_path, check_json);
+    return run_command(c);
   } catch (const skidsim::jobs::Interrupted& e) {
     std::cerr << "skidsim: " << e.what() << "\n";
     return 128 + e.signal_number;
