@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -18,20 +19,9 @@
 namespace skidsim::apps {
 using nlohmann::json;
 
-int run_pour_job(const PourJob& job) {
-  const jobs::InterruptScope interrupt_scope;  // a signal stops the job; the previous result stays
-  namespace fs = std::filesystem;
-  const std::string table_path = job.soil_table_path.empty() ? io::default_soil_table_path() : job.soil_table_path;
-  const io::SoilTable table = io::load_soil_table(table_path);
-  const auto it = table.find(job.soil_id);
-  if (it == table.end()) {
-    std::cerr << "skidsim: soil '" << job.soil_id << "' is not in " << table_path << " (known:";
-    for (const auto& [id, rec] : table) std::cerr << " " << id;
-    std::cerr << ")\n";
-    return 2;
-  }
-  const terrain::SoilFlowParameters& soil = it->second.flow;
-
+// The site before the pour: its grid from the options or from the height
+// maps given (which set the grid), the maps' heights, the flat layer.
+std::unique_ptr<terrain::GranularGrid> initial_grid(const PourJob& job, const terrain::SoilFlowParameters& soil) {
   // Between 3 and kMaxSiteCellsPerSide cells across (16384^2 cells take
   // 5.6 GB of state); height maps are held to the same cap (io/heightmap.h).
   constexpr double kMaxCells = io::kMaxSiteCellsPerSide;
@@ -65,7 +55,8 @@ int run_pour_job(const PourJob& job) {
     }
     maps.emplace_back(path, std::move(map));
   }
-  terrain::GranularGrid grid(spec, soil, job.step_dt_s);
+  auto grid_ptr = std::make_unique<terrain::GranularGrid>(spec, soil, job.step_dt_s);
+  terrain::GranularGrid& grid = *grid_ptr;
   for (const auto& [path, map] : maps) {
     try {  // out-of-range heights are refused by the grid; name the file
       for (int j = 0; j < spec.ny; ++j)
@@ -87,6 +78,26 @@ int run_pour_job(const PourJob& job) {
   } catch (const std::invalid_argument& e) {
     throw io::InputError(std::string("--layer-m: ") + e.what());
   }
+  return grid_ptr;
+}
+
+int run_pour_job(const PourJob& job) {
+  const jobs::InterruptScope interrupt_scope;  // a signal stops the job; the previous result stays
+  namespace fs = std::filesystem;
+  const std::string table_path = job.soil_table_path.empty() ? io::default_soil_table_path() : job.soil_table_path;
+  const io::SoilTable table = io::load_soil_table(table_path);
+  const auto it = table.find(job.soil_id);
+  if (it == table.end()) {
+    std::cerr << "skidsim: soil '" << job.soil_id << "' is not in " << table_path << " (known:";
+    for (const auto& [id, rec] : table) std::cerr << " " << id;
+    std::cerr << ")\n";
+    return 2;
+  }
+  const terrain::SoilFlowParameters& soil = it->second.flow;
+
+  const std::unique_ptr<terrain::GranularGrid> grid_ptr = initial_grid(job, soil);
+  terrain::GranularGrid& grid = *grid_ptr;
+  const terrain::GridSpec& spec = grid.spec();
   const double initial_centre_m = grid.material_m(spec.nx / 2, spec.ny / 2);
 
   // Hopper outlet: the cells whose centres lie within its radius (f1), each
