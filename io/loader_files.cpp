@@ -425,6 +425,76 @@ void read_bucket_interior(LoaderDescription& d, const std::string& path, const t
   in.present = have_interior;
 }
 
+// <engine idle_rpm rated_rpm ...> and its <power rpm kW> table.
+void read_engine(vehicle::EngineParameters& en, const std::string& parameters_path, const tinyxml2::XMLElement* e) {
+  AttributeReader a(parameters_path, e);
+  en.idle_rpm = a.number_in("idle_rpm", 100.0, 10000.0);
+  en.rated_rpm = a.number_in("rated_rpm", 100.0, 10000.0);
+  en.inertia_kg_m2 = a.number_in("inertia_kg_m2", 1e-3, 1e3);
+  en.governor_droop = a.number_in("governor_droop", 0.005, 0.5);
+  en.friction_torque_N_m = a.number_in("friction_torque_N_m", 0.0, 1e5);
+  a.reject_unknown();
+  if (!(en.rated_rpm > en.idle_rpm)) a.fail("rated_rpm must exceed idle_rpm");
+  for (const tinyxml2::XMLElement* p = e->FirstChildElement(); p; p = p->NextSiblingElement()) {
+    AttributeReader pa(parameters_path, p);
+    if (std::string(p->Name()) != "power") pa.fail("unknown element (expected <power>)");
+    const double rpm = pa.number_in("rpm", 1.0, 10000.0);
+    const double kw = pa.number_in("kW", 0.0, 10000.0);
+    pa.reject_unknown();
+    pa.reject_content();
+    if (!en.speed_rpm.empty() && !(rpm > en.speed_rpm.back())) pa.fail("rpm must increase down the table");
+    en.speed_rpm.push_back(rpm);
+    en.full_load_power_W.push_back(kw * 1e3);
+  }
+  if (en.speed_rpm.size() < 2) a.fail("needs at least two <power rpm kW> points");
+  if (en.speed_rpm.front() > en.idle_rpm || en.speed_rpm.back() < en.rated_rpm)
+    a.fail("the power table must span idle_rpm to rated_rpm");
+}
+
+// <drive>: the hydrostatic drive.
+void read_drive(vehicle::DriveParameters& dr, const std::string& parameters_path, const tinyxml2::XMLElement* e) {
+  AttributeReader a(parameters_path, e);
+  dr.top_speed_m_per_s = a.number_in("top_speed_km_h", 0.1, 100.0) / 3.6;
+  dr.relief_pressure_Pa = a.number_in("relief_MPa", 0.1, 100.0) * 1e6;
+  dr.motor_displacement_m3_per_rad = a.number_in("motor_displacement_cc_per_rev", 1.0, 1e5) * 1e-6 / (2.0 * kPi);
+  dr.final_drive_ratio = a.number_in("final_drive_ratio", 0.1, 100.0);
+  dr.efficiency = a.number_in("efficiency", 0.1, 1.0);
+  dr.side_inertia_kg_m2 = a.number_in("side_inertia_kg_m2", 0.01, 1e4);
+  dr.servo_gain_N_m_s = a.number_in("servo_gain_N_m_s", 1.0, 1e7);
+  dr.brake_torque_N_m = a.number_in("brake_torque_N_m", 0.0, 1e6);
+  dr.pump_stroke_time_s = a.number_in("pump_stroke_time_s", 0.0, 10.0);
+  a.reject_unknown();
+  a.reject_content();
+}
+
+// <tyre>: the Magic Formula's coefficients, the carcass and rolling resistance.
+void read_tyre(vehicle::TyreParameters& t, const std::string& parameters_path, const tinyxml2::XMLElement* e) {
+  AttributeReader a(parameters_path, e);
+  t.radial_stiffness_N_per_m = a.number_in("radial_stiffness_kN_per_m", 1.0, 1e5) * 1e3;
+  t.radial_damping_N_s_per_m = a.number_in("radial_damping_kN_s_per_m", 0.0, 1e4) * 1e3;
+  t.relaxation_x_m = a.number_in("relaxation_x_m", 0.005, 5.0);
+  t.relaxation_y_m = a.number_in("relaxation_y_m", 0.005, 5.0);
+  t.low_speed_damping_N_s_per_m = a.number_in("low_speed_damping_kN_s_per_m", 0.0, 1e4) * 1e3;
+  t.low_speed_m_per_s = a.number_in("low_speed_m_per_s", 0.01, 10.0);
+  t.Bx = a.number_in("Bx", 0.1, 100.0);
+  t.Cx = a.number_in("Cx", 0.1, 3.0);
+  t.Ex = a.number_in("Ex", -10.0, 1.0);
+  t.mu_x = a.number_in("mu_x", 0.01, 3.0);
+  t.By = a.number_in("By", 0.1, 100.0);
+  t.Cy = a.number_in("Cy", 0.1, 3.0);
+  t.Ey = a.number_in("Ey", -10.0, 1.0);
+  t.mu_y = a.number_in("mu_y", 0.01, 3.0);
+  t.rBx1 = a.number_in("rBx1", 0.0, 100.0);
+  t.rBx2 = a.number_in("rBx2", 0.0, 100.0);
+  t.Cxa = a.number_in("Cxa", 0.1, 3.0);
+  t.rBy1 = a.number_in("rBy1", 0.0, 100.0);
+  t.rBy2 = a.number_in("rBy2", 0.0, 100.0);
+  t.Cyk = a.number_in("Cyk", 0.1, 3.0);
+  t.rolling_resistance = a.number_in("rolling_resistance", 0.0, 0.5);
+  a.reject_unknown();
+  a.reject_content();
+}
+
 }  // namespace
 
 LoaderDescription load_loader(const std::string& parameters_path) {
@@ -459,28 +529,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
     };
     if (name == "engine") {
       once(have_engine);
-      auto& en = d.engine;
-      en.idle_rpm = a.number_in("idle_rpm", 100.0, 10000.0);
-      en.rated_rpm = a.number_in("rated_rpm", 100.0, 10000.0);
-      en.inertia_kg_m2 = a.number_in("inertia_kg_m2", 1e-3, 1e3);
-      en.governor_droop = a.number_in("governor_droop", 0.005, 0.5);
-      en.friction_torque_N_m = a.number_in("friction_torque_N_m", 0.0, 1e5);
-      a.reject_unknown();
-      if (!(en.rated_rpm > en.idle_rpm)) a.fail("rated_rpm must exceed idle_rpm");
-      for (const tinyxml2::XMLElement* p = e->FirstChildElement(); p; p = p->NextSiblingElement()) {
-        AttributeReader pa(parameters_path, p);
-        if (std::string(p->Name()) != "power") pa.fail("unknown element (expected <power>)");
-        const double rpm = pa.number_in("rpm", 1.0, 10000.0);
-        const double kw = pa.number_in("kW", 0.0, 10000.0);
-        pa.reject_unknown();
-        pa.reject_content();
-        if (!en.speed_rpm.empty() && !(rpm > en.speed_rpm.back())) pa.fail("rpm must increase down the table");
-        en.speed_rpm.push_back(rpm);
-        en.full_load_power_W.push_back(kw * 1e3);
-      }
-      if (en.speed_rpm.size() < 2) a.fail("needs at least two <power rpm kW> points");
-      if (en.speed_rpm.front() > en.idle_rpm || en.speed_rpm.back() < en.rated_rpm)
-        a.fail("the power table must span idle_rpm to rated_rpm");
+      read_engine(d.engine, parameters_path, e);
     } else if (name == "implement_pump") {
       once(have_pump);
       d.implement_pump.flow_at_rated_m3_per_s = a.number_in("flow_l_per_min", 1.0, 2000.0) / 60000.0;
@@ -492,44 +541,10 @@ LoaderDescription load_loader(const std::string& parameters_path) {
       read_cylinder(d, parameters_path, e);
     } else if (name == "drive") {
       once(have_drive);
-      auto& dr = d.drive;
-      dr.top_speed_m_per_s = a.number_in("top_speed_km_h", 0.1, 100.0) / 3.6;
-      dr.relief_pressure_Pa = a.number_in("relief_MPa", 0.1, 100.0) * 1e6;
-      dr.motor_displacement_m3_per_rad = a.number_in("motor_displacement_cc_per_rev", 1.0, 1e5) * 1e-6 / (2.0 * kPi);
-      dr.final_drive_ratio = a.number_in("final_drive_ratio", 0.1, 100.0);
-      dr.efficiency = a.number_in("efficiency", 0.1, 1.0);
-      dr.side_inertia_kg_m2 = a.number_in("side_inertia_kg_m2", 0.01, 1e4);
-      dr.servo_gain_N_m_s = a.number_in("servo_gain_N_m_s", 1.0, 1e7);
-      dr.brake_torque_N_m = a.number_in("brake_torque_N_m", 0.0, 1e6);
-      dr.pump_stroke_time_s = a.number_in("pump_stroke_time_s", 0.0, 10.0);
-      a.reject_unknown();
-      a.reject_content();
+      read_drive(d.drive, parameters_path, e);
     } else if (name == "tyre") {
       once(have_tyre);
-      auto& t = d.tyre;
-      t.radial_stiffness_N_per_m = a.number_in("radial_stiffness_kN_per_m", 1.0, 1e5) * 1e3;
-      t.radial_damping_N_s_per_m = a.number_in("radial_damping_kN_s_per_m", 0.0, 1e4) * 1e3;
-      t.relaxation_x_m = a.number_in("relaxation_x_m", 0.005, 5.0);
-      t.relaxation_y_m = a.number_in("relaxation_y_m", 0.005, 5.0);
-      t.low_speed_damping_N_s_per_m = a.number_in("low_speed_damping_kN_s_per_m", 0.0, 1e4) * 1e3;
-      t.low_speed_m_per_s = a.number_in("low_speed_m_per_s", 0.01, 10.0);
-      t.Bx = a.number_in("Bx", 0.1, 100.0);
-      t.Cx = a.number_in("Cx", 0.1, 3.0);
-      t.Ex = a.number_in("Ex", -10.0, 1.0);
-      t.mu_x = a.number_in("mu_x", 0.01, 3.0);
-      t.By = a.number_in("By", 0.1, 100.0);
-      t.Cy = a.number_in("Cy", 0.1, 3.0);
-      t.Ey = a.number_in("Ey", -10.0, 1.0);
-      t.mu_y = a.number_in("mu_y", 0.01, 3.0);
-      t.rBx1 = a.number_in("rBx1", 0.0, 100.0);
-      t.rBx2 = a.number_in("rBx2", 0.0, 100.0);
-      t.Cxa = a.number_in("Cxa", 0.1, 3.0);
-      t.rBy1 = a.number_in("rBy1", 0.0, 100.0);
-      t.rBy2 = a.number_in("rBy2", 0.0, 100.0);
-      t.Cyk = a.number_in("Cyk", 0.1, 3.0);
-      t.rolling_resistance = a.number_in("rolling_resistance", 0.0, 0.5);
-      a.reject_unknown();
-      a.reject_content();
+      read_tyre(d.tyre, parameters_path, e);
     } else if (name == "wheel") {
       const std::string link = a.text("link", true);
       const std::string side = a.text("side", true);
