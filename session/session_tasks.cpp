@@ -202,12 +202,41 @@ void SessionTasks::emit(double t, const std::string& kind, const std::string& te
 void SessionTasks::update(const engine::World& w, double dt_s) {
   const double t = w.time_s();
   const Eigen::Vector2d xy = w.loader().link_pose(0).translation().head<2>();
+  const double moved = update_task_progress(w, t, xy);
+  metrics_.material_moved_kg = moved;
+  metrics_.tasks_done = static_cast<double>(std::count_if(tasks_.begin(), tasks_.end(), [](const TaskProgress& p) { return p.done; }));
+  // The time taken: when the last task was done, else the time so far (an
+  // unfinished session must not score as if it had taken none).
+  if (!done_) metrics_.completion_time_s = t;
+  done_ = all_done();
+  update_handling(w, t, dt_s);
+  const double work_s = metrics_.completion_time_s;
+  metrics_.material_rate_kg_h = work_s > 0.0 ? moved * 3600.0 / work_s : 0.0;
+  // Passes and spillage from the bucket's load, looked at every 0.2 s (the
+  // load swings from step to step while the edge cuts). A pass's load is
+  // what the bucket holds kSettleS after its lip has come out of the cut
+  // (0.3 m over the ground): the heap above the bucket's capacity slides off
+  // as it lifts out, onto the source, and is neither carried nor spilt. Load
+  // lost after that, with the lip away from the targets, is spilt. The pass
+  // ends when the bucket has stayed under a third of that load for 0.4 s.
+  bucket_sample_s_ += dt_s;
+  if (bucket_sample_s_ >= kSampleS - 1e-9) {
+    bucket_sample_s_ = 0.0;
+    sample_bucket(w, t);
+  }
+  const Eigen::AlignedBox2d site(Eigen::Vector2d::Zero(), exercise_.site_size_m);
+  if (!site.contains(xy)) metrics_.left_work_area_s += dt_s;
+  fire_exercise_events(t, xy);
+}
+
+// Each task's progress and detail, measured every tick, done or not
+// (material delivered stays counted); a task that is done stays done.
+// Returns the material moved to the tasks' targets.
+double SessionTasks::update_task_progress(const engine::World& w, double t, const Eigen::Vector2d& xy) {
   double moved = 0.0;
   for (std::size_t k = 0; k < tasks_.size(); ++k) {
     const io::Task& task = exercise_.tasks[k];
     TaskProgress& p = tasks_[k];
-    // Progress is measured every tick, done or not (material delivered
-    // stays counted); a task that is done stays done.
     std::ostringstream d;
     switch (task.type) {
       case io::Task::Type::kMoveMaterial:
@@ -270,13 +299,12 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
       emit(t, "task_done", "task '" + p.id + "' done: " + p.detail);
     }
   }
-  metrics_.material_moved_kg = moved;
-  metrics_.tasks_done = static_cast<double>(std::count_if(tasks_.begin(), tasks_.end(), [](const TaskProgress& p) { return p.done; }));
-  // The time taken: when the last task was done, else the time so far (an
-  // unfinished session must not score as if it had taken none).
-  if (!done_) metrics_.completion_time_s = t;
-  done_ = all_done();
-  // Handling metrics.
+  return moved;
+}
+
+// How the machine is handled: tipping, idling, wheel slip, bucket impacts,
+// collisions, people and trucks, the engine's energy.
+void SessionTasks::update_handling(const engine::World& w, double t, double dt_s) {
   const vehicle::Loader& l = w.loader();
   double rear = 0.0, total = 0.0, worst_slip = 0.0;
   for (std::size_t k = 0; k < l.wheels().size(); ++k) {
@@ -335,23 +363,10 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   });
   metrics_.safety = safety_.metrics();
   metrics_.engine_energy_MJ += l.engine_output_power_W() * dt_s * 1e-6;
-  const double work_s = metrics_.completion_time_s;
-  metrics_.material_rate_kg_h = work_s > 0.0 ? moved * 3600.0 / work_s : 0.0;
-  // Passes and spillage from the bucket's load, looked at every 0.2 s (the
-  // load swings from step to step while the edge cuts). A pass's load is
-  // what the bucket holds kSettleS after its lip has come out of the cut
-  // (0.3 m over the ground): the heap above the bucket's capacity slides off
-  // as it lifts out, onto the source, and is neither carried nor spilt. Load
-  // lost after that, with the lip away from the targets, is spilt. The pass
-  // ends when the bucket has stayed under a third of that load for 0.4 s.
-  bucket_sample_s_ += dt_s;
-  if (bucket_sample_s_ >= kSampleS - 1e-9) {
-    bucket_sample_s_ = 0.0;
-    sample_bucket(w, t);
-  }
-  const Eigen::AlignedBox2d site(Eigen::Vector2d::Zero(), exercise_.site_size_m);
-  if (!site.contains(xy)) metrics_.left_work_area_s += dt_s;
-  // The exercise's events.
+}
+
+// The exercise's own events (at a time, on entering a zone, on a task done).
+void SessionTasks::fire_exercise_events(double t, const Eigen::Vector2d& xy) {
   for (std::size_t k = 0; k < exercise_.events.size(); ++k) {
     if (fired_[k]) continue;
     const io::Event& e = exercise_.events[k];

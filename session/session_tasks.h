@@ -87,6 +87,9 @@ class SessionTasks {
   double ground_height_m(const engine::World& w, const Eigen::Vector2d& xy) const;  // soil surface, else 0
   bool over_target(const Eigen::Vector2d& xy) const;  // over a move/backfill zone or a loaded truck's bed
   void emit(double t, const std::string& kind, const std::string& text, int severity = 0);
+  double update_task_progress(const engine::World& w, double t, const Eigen::Vector2d& xy);
+  void update_handling(const engine::World& w, double t, double dt_s);
+  void fire_exercise_events(double t, const Eigen::Vector2d& xy);
 
   const io::Exercise& exercise_;
   std::vector<TaskProgress> tasks_;
