@@ -411,9 +411,8 @@ void World::soil_on_machine() {
     double wedge_scale[4] = {1.0, 1.0, 1.0, 1.0};
     if (slicing) {
       const double cut = std::max(d.bucket_interior.edge_resistance, bucket_fill_fraction());
-      static constexpr double kFaceDir[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-      for (int f = 0; f < 4; ++f)
-        if (kFaceDir[f][0] * forward.x() + kFaceDir[f][1] * forward.y() > 0.3 * forward.norm()) wedge_scale[f] = cut;
+      for (int f = 0; f < terrain::kFaceCount; ++f)
+        if (terrain::face_ahead(f, forward.x(), forward.y(), forward.norm())) wedge_scale[f] = cut;
     }
     resistance.set(r, wedge_scale, motion.velocity_at(r.shear_point_m).head<2>(), kStepSeconds);
   }
@@ -449,11 +448,12 @@ void World::step(const vehicle::LoaderControls& controls) {
 
 void World::watch_stability() {
   const vehicle::Loader& l = *loader_;
-  double rear_load = 0.0;
-  for (size_t i = 0; i < l.wheels().size(); ++i)
-    if (l.description().wheels[i].hub_m.x() < 0.0) rear_load += l.wheels()[i].normal_load_N;
+  // The rear wheels unloaded: under a hundredth of the machine's weight.
+  constexpr double kRearUnloadedShareOfWeight = 0.01;
+  const double rear_load = l.axle_loads().rear_N;
   const double weight = 9.81 * l.description().total_mass_kg();
-  if (events_.rear_wheels_unloaded_s < 0.0 && rear_load < 0.01 * weight) events_.rear_wheels_unloaded_s = time_s();
+  if (events_.rear_wheels_unloaded_s < 0.0 && rear_load < kRearUnloadedShareOfWeight * weight)
+    events_.rear_wheels_unloaded_s = time_s();
   const Eigen::Isometry3d chassis = l.link_pose(0);
   if (events_.tipped_over_s < 0.0 && chassis.linear()(2, 2) < std::cos(0.25 * 3.14159265358979323846))
     events_.tipped_over_s = time_s();

@@ -17,6 +17,8 @@ const io::Zone* find_zone(const io::Exercise& ex, const std::string& id) {
 
 constexpr double kTippingHoldS = 0.25;
 constexpr double kTippingRearmS = 0.5;
+constexpr double kTippingRearShare = 0.05;       // the rear axle "all but unloaded": under 5 % of the tyres' load
+constexpr double kTippingRearmRearShare = 0.1;   // ... and carrying again: over 10 %
 constexpr double kSampleS = 0.2;   // the bucket's load is looked at this often
 constexpr double kSettleS = 2.0;   // after leaving the cut, before its load counts as carried
 constexpr double kImpactMps2 = 40.0;  // about 4 g; the shipped scripts peak at 16-24
@@ -306,19 +308,17 @@ double SessionTasks::update_task_progress(const engine::World& w, double t, cons
 // collisions, people and trucks, the engine's energy.
 void SessionTasks::update_handling(const engine::World& w, double t, double dt_s) {
   const vehicle::Loader& l = w.loader();
-  double rear = 0.0, total = 0.0, worst_slip = 0.0;
-  for (std::size_t k = 0; k < l.wheels().size(); ++k) {
-    total += l.wheels()[k].normal_load_N;
-    if (l.description().wheels[k].hub_m.x() < 0.0) rear += l.wheels()[k].normal_load_N;
-    worst_slip = std::max(worst_slip, std::abs(l.wheels()[k].slip_ratio));
-  }
+  const vehicle::Loader::AxleLoads axles = l.axle_loads();
+  const double rear = axles.rear_N, total = axles.total_N;
+  double worst_slip = 0.0;
+  for (const vehicle::WheelState& wheel : l.wheels()) worst_slip = std::max(worst_slip, std::abs(wheel.slip_ratio));
   // A scare is the rear axle all but unloaded for kTippingHoldS: long
   // enough for the machine to pitch forward, not the bounce of a pivot turn
   // on rough ground. It counts once and re-arms only after the rear axle
   // has carried a tenth of the load again for kTippingRearmS.
-  const bool unloaded = total > 0.0 && rear < 0.05 * total;
+  const bool unloaded = total > 0.0 && rear < kTippingRearShare * total;
   rear_unloaded_s_ = unloaded ? rear_unloaded_s_ + dt_s : 0.0;
-  rear_loaded_s_ = (total > 0.0 && rear > 0.1 * total) ? rear_loaded_s_ + dt_s : 0.0;
+  rear_loaded_s_ = (total > 0.0 && rear > kTippingRearmRearShare * total) ? rear_loaded_s_ + dt_s : 0.0;
   if (rear_unloaded_s_ >= kTippingHoldS && !tipping_) {
     metrics_.tipping_margin_violations += 1.0;
     emit(t, "warning", "the rear wheels lifted: the machine is tipping forward", 2);

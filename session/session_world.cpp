@@ -155,16 +155,14 @@ skidsim_lcm::state_t machine_state(const engine::World& w, bool controls_neutral
   s.tilt_pressure_Pa = l.cylinders().size() > 1 ? l.cylinders()[1].pressure_Pa : 0.0;
   const auto& wheels = l.wheels();
   s.num_wheels = static_cast<std::int8_t>(wheels.size());
-  double rear = 0.0, total = 0.0;
   for (std::size_t k = 0; k < wheels.size(); ++k) {
     s.wheel_speed_rad_s.push_back(l.side_wheel_speed(l.description().wheels[k].side));
     s.wheel_slip.push_back(wheels[k].slip_ratio);
-    total += wheels[k].normal_load_N;
-    if (l.description().wheels[k].hub_m.x() < 0.0) rear += wheels[k].normal_load_N;
   }
+  const vehicle::Loader::AxleLoads axles = l.axle_loads();
   s.engine_speed_rpm = l.engine_speed_rpm();
   s.bucket_payload_kg = w.bucket_material() ? w.bucket_material()->material_mass_kg() : 0.0;
-  s.tipping_margin = total > 0.0 ? rear / total : 0.0;
+  s.tipping_margin = axles.total_N > 0.0 ? axles.rear_N / axles.total_N : 0.0;
   s.controls_neutral = controls_neutral;
   s.active_task = "";
   s.score = 0.0;

@@ -21,6 +21,15 @@ namespace skidsim::terrain {
 // Directions of vertical interfaces, the side of the cell that is free:
 // +x, -x, +y, -y (the neighbour order of the automaton).
 inline constexpr int kFaceCount = 4;
+// Each face's outward step in cells, in that order.
+inline constexpr int kFaceStep[kFaceCount][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+// A face lies ahead of a motion when its outward direction is within about
+// 73 deg of it (cosine over 0.3): the faces a cutting edge or a blade meets.
+inline constexpr double kFaceAheadCosine = 0.3;
+// `dir_norm` is |dir| (1 for a unit direction: the comparison stays exact).
+inline bool face_ahead(int face, double dir_x, double dir_y, double dir_norm) {
+  return kFaceStep[face][0] * dir_x + kFaceStep[face][1] * dir_y > kFaceAheadCosine * dir_norm;
+}
 
 struct CellContact {
   // The mapper sets every field; the empty constructor saves zeroing each

@@ -1,5 +1,7 @@
 #include "terrain/material_exchange.h"
 
+#include "terrain/contact_map.h"  // kFaceStep: the automaton's neighbour order
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -20,7 +22,6 @@ constexpr double kShedBelowUpZ = 0.087;
 // Held slices go in even without a cell of advance once slicing has
 // stopped for this long.
 constexpr double kFlushAfterS = 0.1;
-constexpr int kStep[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
 
 }  // namespace
 
@@ -139,7 +140,7 @@ void MaterialExchange::emit_edges(int k) {
     g.edge_slot_cell(slot, &i, &j, &dir);
     // The imaginary neighbour (6.3.2): one cell out, at the border cell's
     // base; the material leaves from there with the body's velocity.
-    const Eigen::Vector3d at = a.world_point(i + kStep[dir][0], j + kStep[dir][1], g.base_m(i, j));
+    const Eigen::Vector3d at = a.world_point(i + kFaceStep[dir][0], j + kFaceStep[dir][1], g.base_m(i, j));
     stats_.quanta_over_edge[dir] += q;
     spawn(at, a.velocity_at(at), q, k);
   }
@@ -175,7 +176,7 @@ void MaterialExchange::flow_over_edges(int k) {
   for (int slot = 0; slot < g.edge_slot_count(); ++slot) {
     int i = 0, j = 0, dir = 0;
     g.edge_slot_cell(slot, &i, &j, &dir);
-    const Eigen::Vector3d at = a.world_point(i + kStep[dir][0], j + kStep[dir][1], g.base_m(i, j));
+    const Eigen::Vector3d at = a.world_point(i + kFaceStep[dir][0], j + kFaceStep[dir][1], g.base_m(i, j));
     g.set_edge_neighbour_height(slot, std::numeric_limits<double>::quiet_NaN());
     int gi = 0, gj = 0;
     if (!ground_cell(at, &gi, &gj)) continue;

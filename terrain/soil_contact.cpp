@@ -12,7 +12,6 @@ namespace {
 
 constexpr double kFullyCovered = 1.0 - 1e-9;
 constexpr int kMaxBodyId = 65535;
-constexpr int kStep[kFaceCount][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
 
 double radians(double deg) { return deg * kPi / 180.0; }
 
@@ -231,7 +230,7 @@ void SoilContactModel::press(CellContact& c, const BodyMotion& motion, BodyReact
 }
 
 int SoilContactModel::region_in_front(const CellContact& c, int f) const {
-  const int i = c.i + kStep[f][0], j = c.j + kStep[f][1];
+  const int i = c.i + kFaceStep[f][0], j = c.j + kFaceStep[f][1];
   return grid_.contains(i, j) ? region_index(grid_.index(i, j)) : region_index(static_cast<int>(c.cell));
 }
 
@@ -240,7 +239,7 @@ double SoilContactModel::free_level_cap(int cell, double covered_fraction, int f
   // soil stands at most a repose slope above that cell's. (Without the cap,
   // soil an avalanche brings into a cell that is almost covered would stand
   // impossibly high on its sliver of free area.)
-  const int i = cell % grid_.nx() + kStep[f][0], j = cell / grid_.nx() + kStep[f][1];
+  const int i = cell % grid_.nx() + kFaceStep[f][0], j = cell / grid_.nx() + kFaceStep[f][1];
   if (!grid_.contains(i, j) || map_slot(i, j) >= 0) return std::numeric_limits<double>::infinity();
   return grid_.surface_at(grid_.index(i, j)) +
          (1.0 - covered_fraction) * grid_.cell_size_m() * grid_.flow_law().tan_repose;
@@ -249,7 +248,7 @@ double SoilContactModel::free_level_cap(int cell, double covered_fraction, int f
 bool SoilContactModel::interface_at(const CellContact& c, int f, Interface* out) const {
   const double d = grid_.cell_size_m();
   const int cell = static_cast<int>(c.cell);
-  const int i = c.i + kStep[f][0], j = c.j + kStep[f][1];
+  const int i = c.i + kFaceStep[f][0], j = c.j + kFaceStep[f][1];
   if (c.interface_w_m[f] > 0.0) {
     out->s_m = c.interface_s_m[f];
     out->w_m = c.interface_w_m[f];
@@ -283,14 +282,14 @@ double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface
   int i = c.i, j = c.j;
   if (beyond_body) {
     // Pushed material lands beyond the body's own cells, never under it.
-    while (map_slot(i + kStep[f][0], j + kStep[f][1]) >= 0) {
-      i += kStep[f][0];
-      j += kStep[f][1];
+    while (map_slot(i + kFaceStep[f][0], j + kFaceStep[f][1]) >= 0) {
+      i += kFaceStep[f][0];
+      j += kFaceStep[f][1];
     }
   }
   while (u < length_cap) {
-    i += kStep[f][0];
-    j += kStep[f][1];
+    i += kFaceStep[f][0];
+    j += kFaceStep[f][1];
     if (!grid_.contains(i, j)) break;
     const int n = grid_.index(i, j);
     if (grid_.covered(n) || map_slot(i, j) >= 0) break;
@@ -319,10 +318,10 @@ void SoilContactModel::push_material(const Push& push, const CellContact& c) {
   const int cell = static_cast<int>(c.cell);
   if (wedge_cells_.empty()) {
     // Nothing in front but the grid's edge: off-site over an open edge.
-    int i = c.i + kStep[push.direction][0], j = c.j + kStep[push.direction][1];
+    int i = c.i + kFaceStep[push.direction][0], j = c.j + kFaceStep[push.direction][1];
     while (map_slot(i, j) >= 0) {
-      i += kStep[push.direction][0];
-      j += kStep[push.direction][1];
+      i += kFaceStep[push.direction][0];
+      j += kFaceStep[push.direction][1];
     }
     if (grid_.contains(i, j)) return;  // a covered neighbour: the body holds it
     static constexpr Edge kEdgeOfFace[kFaceCount] = {kEdgeXMax, kEdgeXMin, kEdgeYMax, kEdgeYMin};
@@ -525,7 +524,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
   state.sliced.clear();
   for (const Push& p : pushes_) {
     if (state.slicing && !p.plastic &&
-        kStep[p.direction][0] * state.slicing_forward.x() + kStep[p.direction][1] * state.slicing_forward.y() > 0.3) {
+        face_ahead(p.direction, state.slicing_forward.x(), state.slicing_forward.y(), 1.0)) {
       // (6.4) The edge cuts: the swept soil leaves for the body, no wedge.
       const auto wanted = static_cast<std::int64_t>(p.height_m / kHeightQuantumM);
       const std::int64_t q = grid_.export_quanta(static_cast<int>(p.cell), wanted);

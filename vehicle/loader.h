@@ -112,6 +112,21 @@ class Loader {
   // the drive pumps' (W).
   double engine_output_power_W() const { return implement_power_W_ / d_.implement_pump.efficiency + drive_power_W_; }
   const std::vector<WheelState>& wheels() const { return wheels_; }
+  // The tyres' normal loads this step, all of them and the rear axle's
+  // (hubs behind the chassis origin): the one measure of the tipping rule,
+  // for the world's stability watch, the tasks' tipping warning and the
+  // state's tipping margin (each with its own threshold).
+  struct AxleLoads {
+    double rear_N = 0.0, total_N = 0.0;
+  };
+  AxleLoads axle_loads() const {
+    AxleLoads a;
+    for (std::size_t k = 0; k < wheels_.size(); ++k) {
+      a.total_N += wheels_[k].normal_load_N;
+      if (d_.wheels[k].hub_m.x() < 0.0) a.rear_N += wheels_[k].normal_load_N;
+    }
+    return a;
+  }
   const std::vector<CylinderState>& cylinders() const { return cylinder_state_; }
   btMultiBody& multibody() { return *body_; }
 
