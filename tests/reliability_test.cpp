@@ -452,26 +452,32 @@ std::string command_line(const std::vector<std::string>& argv) {
   return s;
 }
 
-void record(const Case& c, const Invocation& inv, const ProcessResult& r, const std::vector<std::string>& failures) {
+// With SKIDSIM_RELIABILITY_RESULTS=DIR, one case's record (what it was and
+// what the binary did) as DIR/FILE.json, for scripts/reliability_report.py.
+void write_record(const std::string& file, json j, const ProcessResult& r, const std::vector<std::string>& failures) {
   const char* dir = std::getenv("SKIDSIM_RELIABILITY_RESULTS");
   if (!dir) return;
+  j["exit_code"] = r.exit_code;
+  j["signal"] = r.signaled ? signal_name(r.signal) : "";
+  j["timed_out"] = r.timed_out;
+  j["wall_s"] = r.wall_s;
+  j["max_rss_kb"] = r.max_rss_kb;
+  j["stderr"] = excerpt(r.err, 600);
+  j["failures"] = failures;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  write_file((fs::path(dir) / (file + ".json")).string(), j.dump(1, ' ', false, json::error_handler_t::replace));
+}
+
+void record(const Case& c, const Invocation& inv, const ProcessResult& r, const std::vector<std::string>& failures) {
   json j = {{"name", c.name},
             {"format", format_name(c.format)},
             {"family", c.family},
             {"expect", expect_name(c.expect)},
             {"base", c.base},
             {"what", c.what},
-            {"command", command_line(inv.argv)},
-            {"exit_code", r.exit_code},
-            {"signal", r.signaled ? signal_name(r.signal) : ""},
-            {"timed_out", r.timed_out},
-            {"wall_s", r.wall_s},
-            {"max_rss_kb", r.max_rss_kb},
-            {"stderr", excerpt(r.err, 600)},
-            {"failures", failures}};
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  write_file((fs::path(dir) / (c.name + ".json")).string(), j.dump(1, ' ', false, json::error_handler_t::replace));
+            {"command", command_line(inv.argv)}};
+  write_record(c.name, j, r, failures);
 }
 
 class Hostile : public ::testing::TestWithParam<Case> {};
@@ -680,7 +686,7 @@ TEST_P(Signals, LeaveOldOrCompleteNew) {
         fail("the next run left the killed run's staging behind: " + left.front());
     }
   }
-  if (const char* dir = std::getenv("SKIDSIM_RELIABILITY_RESULTS")) {
+  {
     json j = {{"name", "signal_" + c.name},
               {"format", "signal"},
               {"family", c.signal == SIGKILL ? "sigkill" : "signal"},
@@ -688,17 +694,8 @@ TEST_P(Signals, LeaveOldOrCompleteNew) {
               {"what", signal_name(c.signal) + " after " + std::to_string(static_cast<int>(c.delay_s * 1000)) + " ms" +
                            (c.previous ? ", a previous result in the run directory" : "")},
               {"command", command_line(argv) + "  # " + signal_name(c.signal) + " after " +
-                              std::to_string(static_cast<int>(c.delay_s * 1000)) + " ms"},
-              {"exit_code", r.exit_code},
-              {"signal", r.signaled ? signal_name(r.signal) : ""},
-              {"timed_out", r.timed_out},
-              {"wall_s", r.wall_s},
-              {"max_rss_kb", r.max_rss_kb},
-              {"stderr", excerpt(r.err, 600)},
-              {"failures", failures}};
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    write_file((fs::path(dir) / ("signal_" + c.name + ".json")).string(), j.dump(1));
+                              std::to_string(static_cast<int>(c.delay_s * 1000)) + " ms"}};
+    write_record("signal_" + c.name, j, r, failures);
   }
   if (!failures.empty()) {
     std::ostringstream m;
