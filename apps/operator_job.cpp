@@ -15,6 +15,9 @@
 
 namespace skidsim::apps {
 
+using session::OperatorPlayer;
+using session::to_message;
+
 int run_operator(const OperatorJob& job) {
   OperatorPlayer player(io::load_operator_script(job.script_path));
   const std::string url = job.lcm_url.empty() ? std::string(io::kDefaultLcmUrl) : job.lcm_url;

@@ -13,6 +13,13 @@
 
 namespace skidsim::apps {
 
+using session::ScriptOperator;
+using session::Session;
+using session::SessionOptions;
+using session::SessionOutput;
+using visual::exercise_camera;
+using visual::static_scene;
+
 int render_frame(const RenderJob& job) {
   const io::Exercise ex = io::load_exercise(job.exercise_path);
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);

@@ -15,6 +15,10 @@
 #include "io/json_file.h"
 
 namespace skidsim::apps {
+
+using report::FrameSet;
+using report::render_review_html;
+using visual::contact_sheet;
 namespace {
 
 namespace fs = std::filesystem;

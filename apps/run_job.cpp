@@ -34,6 +34,30 @@
 #include "io/loader_files.h"
 
 namespace skidsim::apps {
+
+using jobs::Progress;
+using jobs::StagedRunDirectory;
+using jobs::terrain_snapshot;
+using report::render_report_html;
+using session::DecideControls;
+using session::Replay;
+using session::ScriptOperator;
+using session::Session;
+using session::SessionIdentity;
+using session::SessionOptions;
+using session::SessionOutput;
+using session::SessionTasks;
+using session::TaskProgress;
+using session::TickDecision;
+using session::kStepsPerTick;
+using session::session_identity;
+using session::write_session_header;
+using visual::FrameRecorder;
+using visual::SceneHistory;
+using visual::encode_video;
+using visual::exercise_camera;
+using visual::static_scene;
+using visual::update_scene;
 namespace {
 
 using nlohmann::json;

@@ -149,8 +149,8 @@ int check_exercise(const std::string& path, bool json) {
     skidsim::io::load_operator_script(e.operator_source.script);
   // What the session would build, built once (refusals name the file).
   const auto world =
-      skidsim::apps::build_session_world(e, loader, skidsim::io::load_soil_table(skidsim::io::default_soil_table_path()));
-  skidsim::apps::check_tasks(e, *world);
+      skidsim::session::build_session_world(e, loader, skidsim::io::load_soil_table(skidsim::io::default_soil_table_path()));
+  skidsim::session::check_tasks(e, *world);
   nlohmann::json j;
   j["exercise"] = e.name;
   j["file"] = path;
@@ -212,9 +212,9 @@ int list_soils(const std::string& path) {
 
 // Every command's options and the values they fill.
 struct Commands {
-  skidsim::apps::PourJob pour{};
-  skidsim::apps::PushJob push{};
-  skidsim::apps::DigJob dig{};
+  skidsim::jobs::PourJob pour{};
+  skidsim::jobs::PushJob push{};
+  skidsim::jobs::DigJob dig{};
   skidsim::apps::RunJob run{};
   skidsim::apps::RenderJob render_job{};
   skidsim::apps::ReviewJob review_job{};
@@ -222,7 +222,7 @@ struct Commands {
   skidsim::apps::OperatorJob operator_job{};
   bool bench_json = false;
   double bench_min_time = 0.0;
-  skidsim::apps::PerfReportJob report_job{};
+  skidsim::report::PerfReportJob report_job{};
   std::string loader_path = skidsim::io::default_loader_path();
   std::string check_path{};
   bool check_json = false;
@@ -399,15 +399,15 @@ bool known_command(CLI::App& app, const char* name) {
 }
 
 int run_command(const Commands& c) {
-  if (*c.pour_cmd) return skidsim::apps::run_pour_job(c.pour);
-  if (*c.push_cmd) return skidsim::apps::run_push_job(c.push);
-  if (*c.dig_cmd) return skidsim::apps::run_dig_job(c.dig);
+  if (*c.pour_cmd) return skidsim::jobs::run_pour_job(c.pour);
+  if (*c.push_cmd) return skidsim::jobs::run_push_job(c.push);
+  if (*c.dig_cmd) return skidsim::jobs::run_dig_job(c.dig);
   if (*c.run_cmd) return skidsim::apps::run_session(c.run);
   if (*c.operator_cmd) return skidsim::apps::run_operator(c.operator_job);
   if (*c.render_cmd) return skidsim::apps::render_frame(c.render_job);
   if (*c.review_cmd) return skidsim::apps::review_session(c.review_job);
   if (*c.batch_cmd) return skidsim::apps::run_batch(c.batch_job);
-  if (*c.report_cmd) return skidsim::apps::write_perf_report(c.report_job);
+  if (*c.report_cmd) return skidsim::report::write_perf_report(c.report_job);
   if (*c.bench_cmd) return run_bench(c.bench_json, c.bench_filter, c.bench_min_time, c.bench_out);
   if (*c.soils_cmd) return list_soils(c.soil_table);
   if (*c.check_cmd) return c.check_path.empty() ? check_loader(c.loader_path, c.check_json) : check_file(c.check_path, c.check_json);

@@ -30,15 +30,15 @@ void render_frames(benchmark::State& state, int dust_puffs) {
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
   const io::Exercise ex = io::load_exercise(source("scenarios/pile_to_zone.xml"));
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
-  auto world = apps::build_session_world(ex, loader, soils);
-  render::Scene scene = apps::static_scene(ex, *world);
+  auto world = session::build_session_world(ex, loader, soils);
+  render::Scene scene = visual::static_scene(ex, *world);
   const Eigen::Vector3f at = world->loader().link_pose(0).translation().cast<float>();
   for (int k = 0; k < dust_puffs; ++k)
     scene.particles.push_back({at + Eigen::Vector3f(1.5f + 0.004f * static_cast<float>(k % 97), 0.01f * static_cast<float>(k % 131) - 0.6f,
                                                     0.002f * static_cast<float>(k % 211)),
                                0.2f + 0.7f * static_cast<float>(k % 50) / 50.0f, 0.3f, static_cast<float>(k % 4) / 4.0f,
                                Eigen::Vector3f(0.8f, 0.7f, 0.55f)});
-  const render::Camera camera = apps::exercise_camera("chase", ex, *world);
+  const render::Camera camera = visual::exercise_camera("chase", ex, *world);
   auto context = render::make_offscreen_context("auto", static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   render::Renderer renderer(*context);
   std::vector<std::uint8_t> rgb;

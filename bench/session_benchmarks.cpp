@@ -23,7 +23,7 @@ std::string source(const std::string& relative) {
 }
 
 // The state over LCM, as `skidsim run` publishes it (50 Hz).
-struct PublishState : apps::SessionOutput {
+struct PublishState : session::SessionOutput {
   io::LcmBridge* bridge = nullptr;
   void state(const skidsim_lcm::state_t& m, double) override {
     if (bridge) bridge->publish_state(m);
@@ -47,14 +47,14 @@ void BM_SessionPileToZone(benchmark::State& state) {
   if (publish) bridge = std::make_unique<io::LcmBridge>("udpm://239.255.76.67:7699?ttl=0", io::LcmChannels{}, &input);
   PublishState out;
   out.bridge = bridge.get();
-  std::unique_ptr<apps::Session> session;
-  std::unique_ptr<apps::ScriptOperator> op;
+  std::unique_ptr<session::Session> session;
+  std::unique_ptr<session::ScriptOperator> op;
   const auto start = [&] {
-    session = std::make_unique<apps::Session>(ex, loader, soils, apps::SessionOptions{});
-    op = std::make_unique<apps::ScriptOperator>(script);
+    session = std::make_unique<session::Session>(ex, loader, soils, session::SessionOptions{});
+    op = std::make_unique<session::ScriptOperator>(script);
   };
   start();
-  const apps::DecideControls decide = [&](const skidsim_lcm::state_t& st, long, double t) { return op->decide(st, t); };
+  const session::DecideControls decide = [&](const skidsim_lcm::state_t& st, long, double t) { return op->decide(st, t); };
   for (auto _ : state) {
     for (int tick = 0; tick < 100; ++tick)
       if (!session->tick(false, decide, out).empty()) {

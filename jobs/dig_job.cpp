@@ -17,7 +17,7 @@
 #include "io/loader_files.h"
 #include "io/soil_table.h"
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 using nlohmann::json;
 
@@ -332,4 +332,4 @@ int run_dig_job(const DigJob& job) {
   return conserved && world.events().finite ? 0 : 1;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

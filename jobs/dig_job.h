@@ -8,7 +8,7 @@
 
 #include <string>
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 struct DigJob {
   std::string soil_id = "dry_sand";
@@ -24,4 +24,4 @@ struct DigJob {
 // process exit code; bad options throw io::InputError naming the option.
 int run_dig_job(const DigJob& job);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

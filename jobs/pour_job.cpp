@@ -16,7 +16,7 @@
 #include "io/soil_table.h"
 #include "terrain/pile_metrics.h"
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 using nlohmann::json;
 
 // The site before the pour: its grid from the options or from the height
@@ -214,4 +214,4 @@ int run_pour_job(const PourJob& job) {
   return 0;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

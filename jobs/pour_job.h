@@ -6,7 +6,7 @@
 
 #include "terrain/granular_grid.h"
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 struct PourJob {
   std::string soil_id = "dry_sand";
@@ -33,4 +33,4 @@ struct PourJob {
 // input are reported on stderr naming the file and field.
 int run_pour_job(const PourJob& job);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 Progress::Progress(std::string label, double total_sim_s)
     : label_(std::move(label)),
@@ -42,4 +42,4 @@ void Progress::finish() {
   std::fprintf(stderr, "\n");
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

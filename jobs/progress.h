@@ -5,7 +5,7 @@
 #include <chrono>
 #include <string>
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 class Progress {
  public:
@@ -23,4 +23,4 @@ class Progress {
   std::chrono::steady_clock::time_point last_draw_;
 };
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

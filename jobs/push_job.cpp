@@ -15,7 +15,7 @@
 #include "terrain/body_shapes.h"
 #include "terrain/soil_contact.h"
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 using nlohmann::json;
 
@@ -149,4 +149,4 @@ int run_push_job(const PushJob& job) {
   return 0;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

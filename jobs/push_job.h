@@ -5,7 +5,7 @@
 
 #include <string>
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 struct PushJob {
   std::string soil_id = "dry_sand";
@@ -25,4 +25,4 @@ struct PushJob {
 // throw io::InputError naming the option.
 int run_push_job(const PushJob& job);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

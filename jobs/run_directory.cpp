@@ -1,7 +1,7 @@
 #include "jobs/run_directory.h"
 
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 io::Heightmap terrain_snapshot(const terrain::GranularGrid& grid, const std::string& quantity) {
   io::Heightmap map;
@@ -18,4 +18,4 @@ io::Heightmap terrain_snapshot(const terrain::GranularGrid& grid, const std::str
   return map;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

@@ -8,7 +8,7 @@
 #include "io/run_directory.h"
 #include "terrain/granular_grid.h"
 
-namespace skidsim::apps {
+namespace skidsim::jobs {
 
 using io::StagedRunDirectory;
 
@@ -16,4 +16,4 @@ using io::StagedRunDirectory;
 // height map.
 io::Heightmap terrain_snapshot(const terrain::GranularGrid& grid, const std::string& quantity);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::jobs

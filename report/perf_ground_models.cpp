@@ -22,7 +22,7 @@
 #include "terrain/slippage_law.h"
 #include "experiments/slippage_study.h"
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 namespace {
 
 using terrain::GranularGrid;
@@ -284,4 +284,4 @@ ReportSection ground_models_section(const ReportContext& ctx) {
   return section;
 }
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

@@ -18,7 +18,7 @@
 #include "experiments/loading_experiments.h"
 #include "experiments/translating_body.h"
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 namespace {
 
 using terrain::GranularGrid;
@@ -195,4 +195,4 @@ ReportSection wheel_sinkage_section(const ReportContext& ctx) {
   return s;
 }
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

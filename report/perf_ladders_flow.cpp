@@ -16,7 +16,7 @@
 #include "terrain/granular_grid.h"
 #include "terrain/load_spreading.h"
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 namespace {
 
 using terrain::GranularGrid;
@@ -293,4 +293,4 @@ ReportSection pile_load_section(const ReportContext& ctx) {
   return s;
 }
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

@@ -8,7 +8,7 @@
 #include "report/perf_report_parts.h"
 #include "terrain/granular_grid.h"
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 
 ReportSection level_of_detail_section(const ReportContext& ctx) {
   const double min_time_s = ctx.quick ? 0.01 : 0.5;
@@ -47,4 +47,4 @@ ReportSection level_of_detail_section(const ReportContext& ctx) {
   return section;
 }
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

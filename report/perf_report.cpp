@@ -20,7 +20,7 @@
 #include "jobs/push_job.h"
 #include "io/atomic_file.h"
 
-namespace skidsim::apps {
+namespace skidsim::report {
 namespace perf {
 namespace {
 
@@ -47,13 +47,13 @@ ReportSection repose_cone_section(const ReportContext& ctx) {
   for (const double c : ladder) {
     if (!budget.allow(fmt("%g cm", c * 100.0))) continue;
     const auto started = std::chrono::steady_clock::now();
-    PourJob p;
+    jobs::PourJob p;
     p.cell_size_m = c;
     p.site_size_m = 6.0;
     p.pour_rate_kg_per_s = 100.0;
     p.pour_duration_s = 6.0;
     p.out_dir = (ctx.work_dir / ("pour_" + fmt("%g", c))).string();
-    if (run_pour_job(p) != 0) throw std::runtime_error("performance report: the pour at " + fmt("%g", c) + " m failed");
+    if (jobs::run_pour_job(p) != 0) throw std::runtime_error("performance report: the pour at " + fmt("%g", c) + " m failed");
     const json s = read_summary(p.out_dir);
     alpha_i = s["soil"]["stop_angle_deg"].get<double>();
     const json& r = s["result"];
@@ -107,11 +107,11 @@ ReportSection blade_push_section(const ReportContext& ctx) {
     if (!budget.allow(fmt("%g cells/m", d))) continue;
     const auto started = std::chrono::steady_clock::now();
     densities.push_back(d);
-    PushJob p;
+    jobs::PushJob p;
     p.cells_per_m = d;
     p.distance_m = 2.0;
     p.out_dir = (ctx.work_dir / ("push_" + fmt("%g", d))).string();
-    if (run_push_job(p) != 0) throw std::runtime_error("performance report: the push at " + fmt("%g", d) + " cells/m failed");
+    if (jobs::run_push_job(p) != 0) throw std::runtime_error("performance report: the push at " + fmt("%g", d) + " cells/m failed");
     const json s = read_summary(p.out_dir);
     resistance.emplace_back(d, s["result"]["resistance_at_end_N"].get<double>());
     push_cost.push_back(s["performance"]["us_per_step"].get<double>() * 1e-6 / 0.002);
@@ -209,4 +209,4 @@ int write_perf_report(const PerfReportJob& job) {
   return 0;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::report

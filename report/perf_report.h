@@ -15,7 +15,7 @@
 
 #include <string>
 
-namespace skidsim::apps {
+namespace skidsim::report {
 
 struct PerfReportJob {
   std::string out_path = "docs/performance.md";  // the SVGs go beside it
@@ -24,4 +24,4 @@ struct PerfReportJob {
 
 int write_perf_report(const PerfReportJob& job);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::report

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 
 std::string fmt(const char* format, double v) {
   char buf[64];
@@ -154,4 +154,4 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

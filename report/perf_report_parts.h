@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 
 // One rung of a ladder: its setting (a cell size, sub-steps), the error
 // against the case's reference and what it cost.
@@ -120,4 +120,4 @@ ReportSection sessions_section(const ReportContext& ctx);         // perf_sessio
 ReportSection level_of_detail_section(const ReportContext& ctx);  // perf_level_of_detail.cpp (a big site at rest)
 ReportSection ground_models_section(const ReportContext& ctx);    // perf_ground_models.cpp (automaton vs slippage)
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

@@ -20,7 +20,7 @@
 #include "session/session.h"
 #include "io/soil_table.h"
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 namespace {
 
 namespace fs = std::filesystem;
@@ -44,12 +44,12 @@ SessionRun whole_session(double cell_m, double max_s) {
   if (ex.soils.empty()) throw std::runtime_error("performance report: pile_to_zone.xml has no <soil>");
   ex.soils.front().cell_m = cell_m;
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
-  SessionOptions options;
+  session::SessionOptions options;
   options.limit_s = max_s;
-  Session session(ex, loader, io::load_soil_table(io::default_soil_table_path()), options);
-  ScriptOperator script(io::load_operator_script((scenarios_dir() / "pile_to_zone.operator.xml").string()));
+  session::Session session(ex, loader, io::load_soil_table(io::default_soil_table_path()), options);
+  session::ScriptOperator script(io::load_operator_script((scenarios_dir() / "pile_to_zone.operator.xml").string()));
   const auto wall_start = std::chrono::steady_clock::now();  // the session's run, as skidsim run reports it
-  SessionOutput nowhere;
+  session::SessionOutput nowhere;
   std::string end_reason;
   while (end_reason.empty())
     end_reason = session.tick(false, [&](const skidsim_lcm::state_t& st, long, double t) { return script.decide(st, t); },
@@ -165,4 +165,4 @@ ReportSection sessions_section(const ReportContext& ctx) {
   return {md, {}};
 }
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

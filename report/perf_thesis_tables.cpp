@@ -14,7 +14,7 @@
 
 #include "report/perf_report_parts.h"
 
-namespace skidsim::apps::perf {
+namespace skidsim::report::perf {
 namespace {
 
 // The thesis's figures (2008, Intel Pentium 4 HT 3.4 GHz), in ms. Table 7.1:
@@ -167,4 +167,4 @@ ReportSection thesis_tables_section(const ReportContext& ctx) {
   return {md, {}};
 }
 
-}  // namespace skidsim::apps::perf
+}  // namespace skidsim::report::perf

@@ -9,7 +9,7 @@
 #include <tuple>
 #include <vector>
 
-namespace skidsim::apps {
+namespace skidsim::report {
 namespace {
 
 using nlohmann::json;
@@ -291,4 +291,4 @@ std::string render_report_html(const json& report) {
   return out.str();
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::report

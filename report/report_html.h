@@ -7,7 +7,7 @@
 
 #include <string>
 
-namespace skidsim::apps {
+namespace skidsim::report {
 
 // The session's report as one HTML page (no scripts; only the strip of
 // frames is read from beside it): the exercise's name, a pass/fail banner with the score
@@ -22,4 +22,4 @@ namespace skidsim::apps {
 // all finite numbers or not as long as "t_s" is skipped.
 std::string render_report_html(const nlohmann::json& report);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::report

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-namespace skidsim::apps {
+namespace skidsim::report {
 namespace {
 
 using nlohmann::json;
@@ -315,4 +315,4 @@ std::string render_review_html(const json& report, const std::vector<FrameSet>& 
   return html;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::report

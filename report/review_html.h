@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-namespace skidsim::apps {
+namespace skidsim::report {
 
 // One recording of the session: frames <dir>/frame_000000.png... at `fps`.
 struct FrameSet {
@@ -30,4 +30,4 @@ struct FrameSet {
 // Never throws on missing or mistyped keys of the report.
 std::string render_review_html(const nlohmann::json& report, const std::vector<FrameSet>& frame_sets);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::report

@@ -7,7 +7,7 @@
 #include "skidsim_lcm/control_t.hpp"
 #include "vehicle/powertrain.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 inline vehicle::LoaderControls to_controls(const skidsim_lcm::control_t& m) {
   vehicle::LoaderControls c;
@@ -35,4 +35,4 @@ inline skidsim_lcm::control_t to_message(const vehicle::LoaderControls& c, std::
   return m;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace skidsim::apps {
+namespace skidsim::session {
 namespace {
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
@@ -169,4 +169,4 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
   return c;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -12,7 +12,7 @@
 #include "skidsim_lcm/state_t.hpp"
 #include "vehicle/powertrain.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 class OperatorPlayer {
  public:
@@ -40,4 +40,4 @@ class OperatorPlayer {
   std::vector<std::string> timed_out_;
 };
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

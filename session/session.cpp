@@ -7,7 +7,7 @@
 
 #include "session/session_world.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 using nlohmann::json;
 
@@ -237,4 +237,4 @@ TickDecision ScriptOperator::decide(const skidsim_lcm::state_t& state, double t_
   return d;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -30,7 +30,7 @@
 #include "skidsim_lcm/terrain_tile_t.hpp"
 #include "vehicle/loader_description.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 // A session's cadences, in 2 ms world steps.
 inline constexpr int kStepsPerTick = 5;      // controls every 10 ms
@@ -122,4 +122,4 @@ class ScriptOperator {
   double done_at_s_ = 0.0;
 };
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

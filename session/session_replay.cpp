@@ -14,7 +14,7 @@
 #include "skidsim_lcm/control_t.hpp"
 #include "skidsim_lcm/event_t.hpp"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 namespace {
 
 using nlohmann::json;
@@ -209,4 +209,4 @@ Replay load_replay(const std::string& path, const io::Exercise& ex, const Sessio
   return replay;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

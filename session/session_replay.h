@@ -26,7 +26,7 @@
 #include "vehicle/loader_description.h"
 #include "vehicle/powertrain.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 inline constexpr const char* kSessionChannel = "SKIDSIM_SESSION";
 
@@ -68,4 +68,4 @@ struct Replay {
 // its byte and index.
 Replay load_replay(const std::string& path, const io::Exercise& ex, const SessionIdentity& identity, int steps_per_tick);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 double distance_to_machine_m(const engine::World& world, const Eigen::Vector2d& p) {
   const vehicle::Loader& l = world.loader();
@@ -71,4 +71,4 @@ void SafetyMonitor::update(const engine::World& world, double t_s, double dt_s, 
   if (someone_near && speed > kWalkingPaceMS) metrics_.speed_near_people_s += dt_s;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -13,7 +13,7 @@
 
 #include "engine/world.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 struct SafetyMetrics {
   double people_collisions = 0.0;  // contact episodes with people
@@ -43,4 +43,4 @@ class SafetyMonitor {
 // The distance from a point to the machine's footprint (0 inside).
 double distance_to_machine_m(const engine::World& world, const Eigen::Vector2d& p);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

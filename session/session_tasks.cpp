@@ -6,7 +6,7 @@
 
 #include "io/atomic_file.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 namespace {
 
 const io::Zone* find_zone(const io::Exercise& ex, const std::string& id) {
@@ -401,4 +401,4 @@ double SessionTasks::score() const {
   return s;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -12,7 +12,7 @@
 #include "engine/world.h"
 #include "io/exercise.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 struct TaskProgress {
   std::string id, type;
@@ -115,4 +115,4 @@ class SessionTasks {
   SafetyMonitor safety_;
 };
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -6,7 +6,7 @@
 
 #include "io/atomic_file.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 namespace {
 
 constexpr int kMaxSettlingSteps = 30000;  // 60 s of avalanching at 2 ms
@@ -179,4 +179,4 @@ skidsim_lcm::state_t machine_state(const engine::World& w, bool controls_neutral
   return s;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

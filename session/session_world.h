@@ -12,7 +12,7 @@
 #include "skidsim_lcm/state_t.hpp"
 #include "vehicle/loader_description.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 // Builds the world. Throws io::InputError naming the exercise file for what
 // this version cannot build (more than one <soil>).
@@ -23,4 +23,4 @@ std::unique_ptr<engine::World> build_session_world(const io::Exercise& exercise,
 // The machine's state for the state channel at this step.
 skidsim_lcm::state_t machine_state(const engine::World& world, bool controls_neutral);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

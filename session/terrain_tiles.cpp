@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 TerrainTiles::TerrainTiles(const terrain::GranularGrid& grid)
     : tiles_x_((grid.nx() + kTileCells - 1) / kTileCells),
@@ -45,4 +45,4 @@ bool TerrainTiles::fill_if_changed(const terrain::GranularGrid& grid, int ti, in
   return true;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

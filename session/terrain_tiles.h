@@ -9,7 +9,7 @@
 #include "skidsim_lcm/terrain_tile_t.hpp"
 #include "terrain/granular_grid.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 
 class TerrainTiles {
  public:
@@ -41,4 +41,4 @@ class TerrainTiles {
   skidsim_lcm::terrain_tile_t tile_{};
 };
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

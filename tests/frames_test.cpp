@@ -36,21 +36,21 @@ class SessionFrames : public ::testing::Test {
   void SetUp() override {
     ex_ = io::load_exercise(std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.xml");
     const vehicle::LoaderDescription loader = io::load_loader(ex_.machine.loader);
-    world_ = apps::build_session_world(ex_, loader, io::load_soil_table(io::default_soil_table_path()));
+    world_ = session::build_session_world(ex_, loader, io::load_soil_table(io::default_soil_table_path()));
     context_ = render::make_offscreen_context("auto", kWidth, kHeight);
     renderer_ = std::make_unique<render::Renderer>(*context_);
   }
   // Plays the exercise's operator script until `t_s`.
   void play_until(double t_s) {
-    apps::OperatorPlayer player(io::load_operator_script(std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.operator.xml"));
+    session::OperatorPlayer player(io::load_operator_script(std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.operator.xml"));
     vehicle::LoaderControls controls;
     while (world_->time_s() < t_s - 1e-9) {
-      if (world_->steps() % 5 == 0) controls = player.step(apps::machine_state(*world_, false));
+      if (world_->steps() % 5 == 0) controls = player.step(session::machine_state(*world_, false));
       world_->step(controls);
     }
   }
   Frame render(const render::Scene& scene, const std::string& camera) {
-    return {render::render_rgb(*context_, *renderer_, scene, apps::exercise_camera(camera, ex_, *world_))};
+    return {render::render_rgb(*context_, *renderer_, scene, visual::exercise_camera(camera, ex_, *world_))};
   }
   io::Exercise ex_;
   std::unique_ptr<engine::World> world_;
@@ -59,7 +59,7 @@ class SessionFrames : public ::testing::Test {
 };
 
 TEST_F(SessionFrames, ShowTheMachineAndTheSoil) {
-  const Frame f = render(apps::static_scene(ex_, *world_), "chase");
+  const Frame f = render(visual::static_scene(ex_, *world_), "chase");
   std::set<std::uint32_t> colours;
   for (std::size_t k = 0; k < f.rgb.size(); k += 3)
     colours.insert(static_cast<std::uint32_t>(f.rgb[k]) << 16 | static_cast<std::uint32_t>(f.rgb[k + 1]) << 8 | f.rgb[k + 2]);
@@ -74,16 +74,16 @@ TEST_F(SessionFrames, ShowTheMachineAndTheSoil) {
 // The four cameras: the fixed one where the exercise puts it (else beyond
 // the site's corner), the others following the machine; no other name.
 TEST_F(SessionFrames, CamerasFollowTheMachineOrStandWhereTheExerciseSays) {
-  const render::Camera fixed_default = apps::exercise_camera("fixed", ex_, *world_);
+  const render::Camera fixed_default = visual::exercise_camera("fixed", ex_, *world_);
   EXPECT_LT(fixed_default.eye_m.x(), 0.0);
   ex_.recording.fixed_eye_m = Eigen::Vector3d(2, 3, 6);
   ex_.recording.fixed_target_m = Eigen::Vector3d(8, 9, 0);
-  const render::Camera fixed = apps::exercise_camera("fixed", ex_, *world_);
+  const render::Camera fixed = visual::exercise_camera("fixed", ex_, *world_);
   EXPECT_EQ(fixed.eye_m, Eigen::Vector3d(2, 3, 6));
   EXPECT_EQ(fixed.target_m, Eigen::Vector3d(8, 9, 0));
   const Eigen::Vector3d at = world_->loader().link_pose(0).translation();
-  for (const char* name : {"cab", "chase"}) EXPECT_LT((apps::exercise_camera(name, ex_, *world_).eye_m - at).norm(), 8.0) << name;
-  EXPECT_THROW(apps::exercise_camera("drone", ex_, *world_), std::invalid_argument);
+  for (const char* name : {"cab", "chase"}) EXPECT_LT((visual::exercise_camera(name, ex_, *world_).eye_m - at).norm(), 8.0) << name;
+  EXPECT_THROW(visual::exercise_camera("drone", ex_, *world_), std::invalid_argument);
 }
 
 // After the script's first bucket fill (about 550 kg aboard by 6 s), the
@@ -95,7 +95,7 @@ TEST_F(SessionFrames, ShowTheBucketsLoadAfterFilling) {
   const double load_kg = world_->bucket_material()->material_mass_kg();
   ASSERT_GT(load_kg, 300.0);
   for (const std::string camera : {"cab", "aerial"}) {  // the chase view has the cab in front of the bucket
-    render::Scene scene = apps::static_scene(ex_, *world_);
+    render::Scene scene = visual::static_scene(ex_, *world_);
     const Frame with_load = render(scene, camera);
     scene.fields.resize(1);  // the ground only
     const Frame without = render(scene, camera);
@@ -115,18 +115,18 @@ TEST_F(SessionFrames, ShowTheBucketsLoadAfterFilling) {
 // land; the soil's flow record gives the sliding heap a moving texture.
 TEST_F(SessionFrames, DumpingRaisesDustAndFallingSand) {
   world_->terrain()->record_flow(true);
-  render::Scene scene = apps::static_scene(ex_, *world_);
-  apps::SceneHistory history;
+  render::Scene scene = visual::static_scene(ex_, *world_);
+  visual::SceneHistory history;
   std::size_t most_puffs = 0, most_parcels = 0;
   int frames_with_flow = 0;
-  apps::OperatorPlayer player(io::load_operator_script(std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.operator.xml"));
+  session::OperatorPlayer player(io::load_operator_script(std::string(SKIDSIM_SOURCE_DIR) + "/scenarios/pile_to_zone.operator.xml"));
   vehicle::LoaderControls controls;
   double next_frame_s = 0.0;
   while (world_->time_s() < 31.0) {
-    if (world_->steps() % 5 == 0) controls = player.step(apps::machine_state(*world_, false));
+    if (world_->steps() % 5 == 0) controls = player.step(session::machine_state(*world_, false));
     world_->step(controls);
     if (world_->time_s() >= next_frame_s) {
-      apps::update_scene(*world_, scene, &history);
+      visual::update_scene(*world_, scene, &history);
       next_frame_s += 0.1;
       most_puffs = std::max(most_puffs, history.dust.puffs());
       most_parcels = std::max(most_parcels, world_->material()->parcels().size());

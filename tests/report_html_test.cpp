@@ -12,7 +12,7 @@
 
 #include "report/report_html.h"
 
-namespace skidsim::apps {
+namespace skidsim::report {
 namespace {
 
 using nlohmann::json;
@@ -204,4 +204,4 @@ TEST(ReportHtml, ShowsTheScoreBreakdownAndAStripOfFrames) {
 }
 
 }  // namespace
-}  // namespace skidsim::apps
+}  // namespace skidsim::report

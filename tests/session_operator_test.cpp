@@ -13,7 +13,7 @@
 #include "io/atomic_file.h"
 #include "io/loader_files.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 namespace {
 
 namespace fs = std::filesystem;
@@ -89,4 +89,4 @@ TEST(OperatorScript, BadScriptsNameFileLineAndElement) {
 }
 
 }  // namespace
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

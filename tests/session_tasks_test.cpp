@@ -12,7 +12,7 @@
 #include "session/session_world.h"
 #include "io/loader_files.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 namespace {
 
 namespace fs = std::filesystem;
@@ -85,4 +85,4 @@ TEST(OperatorPlayer, LongTimedPhaseRunsItsWholeDuration) {
 }
 
 }  // namespace
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -12,7 +12,7 @@
 #include "session/session_world.h"
 #include "io/loader_files.h"
 
-namespace skidsim::apps {
+namespace skidsim::session {
 namespace {
 
 namespace fs = std::filesystem;
@@ -132,4 +132,4 @@ TEST(SessionWorld, SoilSiteSelectsItsGroundModel) {
 }
 
 }  // namespace
-}  // namespace skidsim::apps
+}  // namespace skidsim::session

@@ -5,7 +5,7 @@
 
 #include "io/atomic_file.h"
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 namespace {
 
 // Box filter: each thumbnail pixel averages the frame pixels it covers.
@@ -69,4 +69,4 @@ io::RgbImage contact_sheet(const std::vector<std::string>& frame_paths, const Co
   return sheet;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual

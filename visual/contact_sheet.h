@@ -9,7 +9,7 @@
 
 #include "io/png_image.h"
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 
 struct ContactSheetLayout {
   int count = 12;          // frames shown (fewer if fewer were recorded)
@@ -24,4 +24,4 @@ struct ContactSheetLayout {
 // size; std::invalid_argument if there are none.
 io::RgbImage contact_sheet(const std::vector<std::string>& frame_paths, const ContactSheetLayout& layout = {});
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual

@@ -14,7 +14,7 @@
 #include "io/png_image.h"
 #include "render/renderer.h"
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 
 constexpr std::size_t kMaxQueued = 3;
 
@@ -129,4 +129,4 @@ std::string encode_video(const std::string& dir, double fps, const std::string& 
   return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? video_name : "";
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual

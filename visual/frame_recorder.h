@@ -13,7 +13,7 @@
 
 #include "render/scene.h"
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 
 class FrameRecorder {
  public:
@@ -52,4 +52,4 @@ class FrameRecorder {
 // "" (no ffmpeg, or it failed: the frames remain).
 std::string encode_video(const std::string& dir, double fps, const std::string& video_name = "session.mp4");
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 namespace {
 
 constexpr double kGravity = 9.81;
@@ -128,4 +128,4 @@ void DustSystem::append_particles(const engine::World& world, std::vector<render
   }
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual

@@ -17,7 +17,7 @@
 #include "render/noise.h"
 #include "render/scene.h"
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 
 class DustSystem {
  public:
@@ -52,4 +52,4 @@ class DustSystem {
 // Height of the ground (soil surface, else the firm yard at 0) below a point.
 double ground_height_m(const engine::World& world, const Eigen::Vector3d& at);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual

@@ -7,7 +7,7 @@
 
 #include "render/primitives.h"
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 namespace {
 
 const Eigen::Vector3f kMachineYellow(0.86f, 0.62f, 0.08f);
@@ -244,4 +244,4 @@ render::Camera exercise_camera(const std::string& name, const io::Exercise& ex, 
   return c;
 }
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual

@@ -11,7 +11,7 @@
 #include "io/exercise.h"
 #include "render/scene.h"
 
-namespace skidsim::apps {
+namespace skidsim::visual {
 
 // The parts that do not move (meshes, ground, obstacles, trucks' bodies) and
 // the machine's meshes: built once per session.
@@ -41,4 +41,4 @@ void update_scene(const engine::World& world, render::Scene& scene, SceneHistory
 // for another name.
 render::Camera exercise_camera(const std::string& name, const io::Exercise& exercise, const engine::World& world);
 
-}  // namespace skidsim::apps
+}  // namespace skidsim::visual
