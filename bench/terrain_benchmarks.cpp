@@ -1,5 +1,6 @@
 // Terrain automaton benchmarks (thesis table 7.1 and fig. 7.2), run by
 // `skidsim bench`. Figures go in the README; nothing here asserts a time.
+#include "common/physical_constants.h"
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -29,7 +30,7 @@ std::unique_ptr<GranularGrid> make_grid(int n, EdgeKind x_min_edge) {
 // A plane at 60 degrees, draining over an open edge: every cell is unstable
 // in every sweep (the thesis's all-active test case, table 7.1).
 void fill_steep_plane(GranularGrid& g) {
-  const double tan60 = std::tan(60.0 * 3.14159265358979 / 180.0);
+  const double tan60 = std::tan(skidsim::deg_to_rad(60.0));
   for (int j = 0; j < g.ny(); ++j)
     for (int i = 0; i < g.nx(); ++i) g.set_material_m(i, j, 0.1 + (i + 1) * kCell * tan60);
 }
@@ -115,7 +116,7 @@ void BM_ConeAvalancheActiveSet(benchmark::State& state) {
   const int radius = static_cast<int>(state.range(0));
   const int n = 2 * radius + 21;
   auto grid = make_grid(n, EdgeKind::kClosed);
-  const double tan_stop = std::tan(grid->soil().stop_angle_deg * 3.14159265358979 / 180.0);
+  const double tan_stop = std::tan(skidsim::deg_to_rad(grid->soil().stop_angle_deg));
   const int c = n / 2;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {

@@ -1,4 +1,5 @@
 #include "engine/world.h"
+#include "common/physical_constants.h"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
@@ -373,7 +374,7 @@ void World::soil_on_machine() {
     const int ci = std::clamp(hub.x(), 0, grid_->nx() - 1), cj = std::clamp(hub.y(), 0, grid_->ny() - 1);
     const terrain::SoilMechanics& soil = soil_->soil_at_cell(grid_->index(ci, cj));
     s.shear.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
-    s.shear.friction_angle_rad = soil.friction_angle_deg * 3.14159265358979323846 / 180.0;
+    s.shear.friction_angle_rad = deg_to_rad(soil.friction_angle_deg);
     s.shear.shear_modulus_K_m = soil.shear_modulus_K_m;
     s.shear.contact_length_m = r.contact_area_m2 / d.tyre.width_m;
   }
@@ -455,7 +456,7 @@ void World::watch_stability() {
   if (events_.rear_wheels_unloaded_s < 0.0 && rear_load < kRearUnloadedShareOfWeight * weight)
     events_.rear_wheels_unloaded_s = time_s();
   const Eigen::Isometry3d chassis = l.link_pose(0);
-  if (events_.tipped_over_s < 0.0 && chassis.linear()(2, 2) < std::cos(0.25 * 3.14159265358979323846))
+  if (events_.tipped_over_s < 0.0 && chassis.linear()(2, 2) < std::cos(0.25 * kPi))
     events_.tipped_over_s = time_s();
   if (!chassis.matrix().allFinite() || !l.chassis_velocity().allFinite()) events_.finite = false;
 }

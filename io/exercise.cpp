@@ -1,4 +1,5 @@
 #include "io/exercise.h"
+#include "common/physical_constants.h"
 
 #include <tinyxml2.h>
 
@@ -271,7 +272,7 @@ struct Reader {
 
   // A length x width rectangle from `corner` along yaw: its bounds.
   static Eigen::Vector2d rotate(const Eigen::Vector2d& v, double yaw_deg) {
-    return Eigen::Rotation2Dd(yaw_deg * 3.14159265358979323846 / 180.0) * v;
+    return Eigen::Rotation2Dd(deg_to_rad(yaw_deg)) * v;
   }
   static Region footprint(const Eigen::Vector2d& corner, double length, double width, double yaw_deg) {
     Region r(corner, corner);

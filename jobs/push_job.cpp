@@ -1,4 +1,5 @@
 #include "jobs/push_job.h"
+#include "common/physical_constants.h"
 
 #include <cmath>
 #include <fstream>
@@ -83,7 +84,7 @@ int run_push_job(const PushJob& job) {
   motion.reference_point_m = blade.centre_m;
   model.embed(0, blade, motion);
 
-  const double phi = soil.terramechanics.friction_angle_deg * 3.14159265358979323846 / 180.0;
+  const double phi = deg_to_rad(soil.terramechanics.friction_angle_deg);
   const terrain::WedgeSolution flat =
       terrain::flat_ground_wedge(phi, soil.flow.bulk_density_kg_m3, job.depth_m, job.width_m);
 
@@ -127,7 +128,7 @@ int run_push_job(const PushJob& job) {
       {"site", {{"nx", spec.nx}, {"ny", spec.ny}, {"cell_size_m", spec.cell_size_m}, {"layer_m", job.layer_m}}},
       {"blade", {{"depth_m", job.depth_m}, {"width_m", job.width_m}, {"speed_m_s", job.speed_m_s},
                  {"distance_m", job.distance_m}}},
-      {"reference", {{"flat_ground_wedge_N", flat.force_N}, {"rho_deg", flat.rho_rad * 180.0 / 3.14159265358979323846}}},
+      {"reference", {{"flat_ground_wedge_N", flat.force_N}, {"rho_deg", rad_to_deg(flat.rho_rad)}}},
       {"result", {{"resistance_at_start_N", first_N},
                   {"resistance_at_end_N", last_N},
                   {"displaced_m3", displaced_m3},

@@ -1,4 +1,5 @@
 #include "session/session_tasks.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -180,7 +181,7 @@ bool SessionTasks::over_target(const Eigen::Vector2d& xy) const {
       for (const io::TruckBed& b : exercise_.trucks) {
         if (b.id != t.to) continue;
         // The bed's floor in its own frame: x along its length, y across.
-        const double yaw = b.yaw_deg * 3.14159265358979323846 / 180.0;
+        const double yaw = deg_to_rad(b.yaw_deg);
         const Eigen::Vector2d d = xy - b.back_corner_m;
         const double u = std::cos(yaw) * d.x() + std::sin(yaw) * d.y(), v = -std::sin(yaw) * d.x() + std::cos(yaw) * d.y();
         if (u >= 0.0 && u <= b.length_m && v >= 0.0 && v <= b.width_m) return true;

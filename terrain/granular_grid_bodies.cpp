@@ -1,6 +1,7 @@
 // The granular grid's side of automata on moving bodies (thesis 6.2, 6.3;
 // terrain/material_exchange.h drives these): world slopes on a tilted grid,
 // exact moves in and out, what crosses the open edges, the flow angles.
+#include "common/physical_constants.h"
 #include "terrain/granular_grid.h"
 
 #include <Eigen/Geometry>
@@ -63,7 +64,7 @@ void GranularGrid::set_flow_angles_deg(double repose_deg, double stop_deg) {
         << " deg: expected 0 < stop <= repose < 89";
     throw std::invalid_argument(msg.str());
   }
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  constexpr double kDeg = kPi / 180.0;
   const double tan_repose = std::tan(repose_deg * kDeg), tan_stop = std::tan(stop_deg * kDeg);
   if (tan_repose == law_.tan_repose && tan_stop == law_.tan_stop) return;
   const bool lowered = tan_repose < law_.tan_repose || tan_stop < law_.tan_stop;

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/physical_constants.h"
 #include "io/atomic_file.h"
 #include "io/input_file.h"
 #include "io/loader_files.h"
@@ -18,7 +19,6 @@ namespace skidsim::io {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 TEST(LoaderFiles, ShippedLoaderIsTheThesisMachine) {

@@ -5,13 +5,12 @@
 #include <cmath>
 #include <memory>
 
+#include "common/physical_constants.h"
 #include "engine/world.h"
 #include "io/loader_files.h"
 #include "io/soil_table.h"
 
 namespace skidsim::testing {
-
-inline constexpr double kPi = 3.14159265358979323846;
 
 inline const vehicle::LoaderDescription& shipped_loader() {
   static const vehicle::LoaderDescription d = io::load_loader(io::default_loader_path());

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "common/physical_constants.h"
 #include "session/session_world.h"
 #include "io/loader_files.h"
 
@@ -16,7 +17,6 @@ namespace skidsim::session {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
 
 const io::SoilTable& soils() {
   static const io::SoilTable t = io::load_soil_table(io::default_soil_table_path());

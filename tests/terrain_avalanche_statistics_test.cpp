@@ -27,7 +27,7 @@ TEST(AvalancheStatistics, SizesAreBroadAndTheWorkFollowsTheAvalanches) {
   const SoilFlowParameters soil;
   GranularGrid g(testing::square_spec(n, cell, EdgeKind::kOpen), soil, kDt);
   // A pyramid just under the repose angle, draining over open edges.
-  const double tan_alpha = std::tan(soil.repose_angle_deg * testing::kPi / 180.0);
+  const double tan_alpha = std::tan(soil.repose_angle_deg * kPi / 180.0);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const int edge_distance = std::min(std::min(i, j), std::min(n - 1 - i, n - 1 - j));

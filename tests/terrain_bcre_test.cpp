@@ -14,7 +14,6 @@ namespace skidsim::terrain {
 namespace {
 
 using testing::kDt;
-using testing::kPi;
 
 // The strip of experiments/bcre_bump.h run to `t_end_s`: the largest error over
 // the middle metre relative to the bump's height.

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/physical_constants.h"
 #include "terrain/body_shapes.h"
 #include "terrain/soil_contact.h"
 #include "tests/soil_contact_support.h"
@@ -16,7 +17,6 @@ namespace skidsim::terrain {
 namespace {
 
 constexpr double kSoilDepth = 0.5;
-constexpr double kPi = 3.14159265358979323846;
 
 // A block whose faces are vertical: its +x face is the blade.
 OrientedBox blade_at(double x_m, double y_m, double depth_m, double width_m) {

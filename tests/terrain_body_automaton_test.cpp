@@ -15,7 +15,6 @@ namespace skidsim::terrain {
 namespace {
 
 using testing::kDt;
-using testing::kPi;
 
 constexpr double kDeg = kPi / 180.0;
 

@@ -172,7 +172,7 @@ TEST(Base, PileOnAGentleSlopeCreepsDownhillOnly) {
   // slope is below the repose angle) but spreads further downhill.
   const int n = 81;
   GranularGrid g(testing::square_spec(n, 0.05), SoilFlowParameters{}, kDt);
-  const double tilt = std::tan(15.0 * testing::kPi / 180.0);
+  const double tilt = std::tan(15.0 * kPi / 180.0);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) g.set_base_m(i, j, i * 0.05 * tilt);
   const int c = n / 2;

@@ -4,14 +4,13 @@
 
 #include <cmath>
 
+#include "common/physical_constants.h"
 #include "terrain/body_shapes.h"
 #include "terrain/contact_map.h"
 #include "tests/soil_contact_support.h"
 
 namespace skidsim::terrain {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double covered_area(const ContactMap& map, double cell_size_m) {
   double area = 0.0;

@@ -9,7 +9,6 @@ namespace skidsim::terrain {
 namespace {
 
 using testing::kDt;
-using testing::kPi;
 
 struct PourCase {
   double cell_m;

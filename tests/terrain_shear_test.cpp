@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "common/physical_constants.h"
 #include "terrain/body_shapes.h"
 #include "terrain/soil_contact.h"
 #include "tests/soil_contact_support.h"
@@ -14,7 +15,6 @@ namespace {
 
 constexpr double kDepth = 0.4;
 constexpr double kDt = 0.002;
-constexpr double kPi = 3.14159265358979323846;
 
 struct SlideRun {
   double shear_bound_N = 0.0;

@@ -17,7 +17,6 @@ namespace skidsim::terrain {
 namespace {
 
 using testing::kDt;
-using testing::kPi;
 
 SoilFlowParameters slippage_soil(double cohesion_Pa, double phi_deg, double density = 1800.0) {
   SoilFlowParameters soil;

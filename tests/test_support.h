@@ -6,11 +6,11 @@
 #include <vector>
 #include <algorithm>
 
+#include "common/physical_constants.h"
 #include "terrain/granular_grid.h"
 
 namespace skidsim::terrain::testing {
 
-inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kDt = 0.002;
 
 inline GridSpec square_spec(int n, double cell_m, EdgeKind edges = EdgeKind::kClosed) {

@@ -7,7 +7,7 @@
 namespace skidsim::vehicle {
 namespace {
 
-constexpr double kRpm = 2.0 * skidsim::testing::kPi / 60.0;
+constexpr double kRpm = 2.0 * skidsim::kPi / 60.0;
 const LoaderDescription& loader() { return skidsim::testing::shipped_loader(); }
 
 TEST(Powertrain, EngineGivesRatedPowerAtRatedSpeedAndNothingAtHighIdle) {

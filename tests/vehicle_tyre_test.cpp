@@ -83,7 +83,7 @@ TEST(Tyre, StoppedTyreIsASpringAndRollingReachesTheSteadySlip) {
   k.contact_speed_y = 0.5;
   TyreDeflection s;
   for (int i = 0; i < 5000; ++i) advance_deflection(p, k, 0.002, s);
-  EXPECT_NEAR(deflection_slip_angle(p, s), -0.25 * skidsim::testing::kPi, 1e-6);
+  EXPECT_NEAR(deflection_slip_angle(p, s), -0.25 * skidsim::kPi, 1e-6);
   // Off the ground: no force, the patch springs back.
   k.normal_load_N = 0.0;
   advance_deflection(p, k, 0.002, s);

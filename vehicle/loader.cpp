@@ -1,4 +1,5 @@
 #include "vehicle/loader.h"
+#include "common/physical_constants.h"
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
@@ -22,7 +23,7 @@
 namespace skidsim::vehicle {
 namespace {
 
-constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
+constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 // A face steeper than 50 degrees to the chassis is no ground for a tyre:
 // it only pushes the tyre away (a wall, a step's riser).
 constexpr double kGroundFaceCos = 0.64;

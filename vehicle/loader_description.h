@@ -7,6 +7,7 @@
 // frame. The chassis link frame sits midway between the axles, at axle height.
 #pragma once
 
+#include "common/physical_constants.h"
 #include <Eigen/Geometry>
 
 #include <array>
@@ -65,9 +66,9 @@ struct Cylinder {
   double min_length_m = 0.0, max_length_m = 0.0;  // pin to pin, fully retracted / extended
   double relief_pressure_Pa = 0.0;
   int line = 0;
-  double piston_area_m2() const { return 0.25 * 3.14159265358979323846 * bore_m * bore_m; }
+  double piston_area_m2() const { return 0.25 * kPi * bore_m * bore_m; }
   double annulus_area_m2() const {
-    return piston_area_m2() - 0.25 * 3.14159265358979323846 * rod_m * rod_m;
+    return piston_area_m2() - 0.25 * kPi * rod_m * rod_m;
   }
 };
 

@@ -1,11 +1,12 @@
 #include "vehicle/powertrain.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace skidsim::vehicle {
 namespace {
-constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
+constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 }
 
 double full_load_power_W(const EngineParameters& e, double speed_rad_s) {

@@ -1,4 +1,5 @@
 #include "vehicle/tyre.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +25,7 @@ double relax(double x, double drive, double rate, double dt) {
 void add_low_speed_damping(const TyreParameters& p, const TyreKinematics& k, TyreForce& f) {
   const double v = std::abs(k.contact_speed_x);
   if (v >= p.low_speed_m_per_s) return;
-  const double w = 0.5 * (1.0 + std::cos(3.14159265358979323846 * v / p.low_speed_m_per_s));
+  const double w = 0.5 * (1.0 + std::cos(kPi * v / p.low_speed_m_per_s));
   f.longitudinal_N -= w * p.low_speed_damping_N_s_per_m * (k.contact_speed_x - k.rolling_speed);
   f.lateral_N -= w * p.low_speed_damping_N_s_per_m * k.contact_speed_y;
 }
