@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "common/physical_constants.h"
 #include "engine/bucket_material.h"
 #include "terrain/body_automaton.h"
 #include "terrain/body_shapes.h"
@@ -79,7 +80,7 @@ struct FillingScene {
   void material_side() {
     bucket->grid().step();
     exchange->step();
-    skidsim::engine::update_bucket_load(material, 9.81);  // as the engine does
+    skidsim::engine::update_bucket_load(material, kGravity_m_s2);  // as the engine does
   }
 };
 

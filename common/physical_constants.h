@@ -6,11 +6,9 @@ namespace skidsim {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-// Standard gravity (CGPM 1901, the ISO 80000-3 conventional value): the
-// terrain's soil mechanics and its validation experiments. Bullet's world and
-// the loader's weights still use 9.81 (engine/world.cpp, vehicle/loader.cpp):
-// moving them here changes every session's final state, so it waits for a
-// change that re-records the sessions (tests/data/final_state_hashes.txt).
+// Standard gravity (CGPM 1901, the ISO 80000-3 conventional value): one
+// gravity for Bullet's world, the loader's weights, the terrain's soil
+// mechanics, falling material and the validation experiments.
 inline constexpr double kGravity_m_s2 = 9.80665;
 
 inline constexpr double deg_to_rad(double deg) { return deg * kPi / 180.0; }

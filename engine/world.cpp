@@ -36,7 +36,7 @@ World::World(const vehicle::LoaderDescription& loader, const FirmGround& ground,
       solver_(std::make_unique<btMultiBodyConstraintSolver>()),
       world_(std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
                                                         config_.get())) {
-  world_->setGravity(btVector3(0, 0, -9.81));
+  world_->setGravity(btVector3(0, 0, -kGravity_m_s2));
   btContactSolverInfo& info = world_->getSolverInfo();
   info.m_numIterations = 50;
   ground_friction_ = ground.friction;
@@ -424,7 +424,7 @@ void World::step(const vehicle::LoaderControls& controls) {
   if (bucket_.automaton) {
     // (6.5) The material's base loads press on the bucket (posed at the end
     // of the last step).
-    update_bucket_load(bucket_, 9.81);
+    update_bucket_load(bucket_, kGravity_m_s2);
     if (bucket_.weight_N > 0.0)
       loader_->add_force(bucket_.link, Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N), bucket_.load_point_world_m());
   }
@@ -452,7 +452,7 @@ void World::watch_stability() {
   // The rear wheels unloaded: under a hundredth of the machine's weight.
   constexpr double kRearUnloadedShareOfWeight = 0.01;
   const double rear_load = l.axle_loads().rear_N;
-  const double weight = 9.81 * l.description().total_mass_kg();
+  const double weight = kGravity_m_s2 * l.description().total_mass_kg();
   if (events_.rear_wheels_unloaded_s < 0.0 && rear_load < kRearUnloadedShareOfWeight * weight)
     events_.rear_wheels_unloaded_s = time_s();
   const Eigen::Isometry3d chassis = l.link_pose(0);

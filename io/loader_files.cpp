@@ -585,7 +585,7 @@ LoaderDescription load_loader(const std::string& parameters_path) {
     // The tyres must carry the machine: static deflection under a quarter of
     // the radius (the drive's rolling radius would turn negative, and the
     // chassis would sit on its belly, long before).
-    const double deflection = 9.81 * d.total_mass_kg() / (d.wheels.size() * d.tyre.radial_stiffness_N_per_m);
+    const double deflection = kGravity_m_s2 * d.total_mass_kg() / (d.wheels.size() * d.tyre.radial_stiffness_N_per_m);
     if (deflection > 0.25 * d.tyre.radius_m) {
       std::ostringstream m;
       m << "<tyre> radial_stiffness_kN_per_m: the machine would squash its tyres by " << deflection

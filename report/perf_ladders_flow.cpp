@@ -198,7 +198,7 @@ PileRun pile_under(double cell_m, double timing_wall_s) {
   for (; !g.at_rest() && steps < 400000; ++steps) g.step();
   out.settle_wall_s = seconds_since(start);
   out.settle_sim_s = static_cast<double>(steps) * kStepS;
-  const double g_m_s2 = 9.81;
+  const double g_m_s2 = kGravity_m_s2;
   const double weight_N = static_cast<double>(g.total_quanta()) * g.quantum_mass_kg() * g_m_s2;
   while (out.radius_cells < n - 1 - c && g.material_m(c + out.radius_cells + 1, c) > 0.0) ++out.radius_cells;
   std::vector<double> loads;

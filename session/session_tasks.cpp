@@ -22,7 +22,7 @@ constexpr double kTippingRearShare = 0.05;       // the rear axle "all but unloa
 constexpr double kTippingRearmRearShare = 0.1;   // ... and carrying again: over 10 %
 constexpr double kSampleS = 0.2;   // the bucket's load is looked at this often
 constexpr double kSettleS = 2.0;   // after leaving the cut, before its load counts as carried
-constexpr double kImpactMps2 = 40.0;  // about 4 g; the shipped scripts peak at 16-24
+constexpr double kImpactMps2 = 40.0;  // about 4 g; the shipped scripts peak at 8-31
 
 }  // namespace
 
@@ -342,7 +342,7 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
       if (a > kImpactMps2 && since_impact_s_ >= 0.5 && t > 1.0) {
         metrics_.bucket_impacts += 1.0;
         since_impact_s_ = 0.0;
-        emit(t, "warning", "bucket impact: " + std::to_string(std::lround(a / 9.81)) + " g", 1);
+        emit(t, "warning", "bucket impact: " + std::to_string(std::lround(a / kGravity_m_s2)) + " g", 1);
       }
     }
     bucket_velocity_ = v;

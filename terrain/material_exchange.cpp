@@ -1,3 +1,4 @@
+#include "common/physical_constants.h"
 #include "terrain/material_exchange.h"
 
 #include "terrain/contact_map.h"  // kFaceStep: the automaton's neighbour order
@@ -11,7 +12,6 @@
 namespace skidsim::terrain {
 namespace {
 
-constexpr double kGravity = 9.81;
 // What crosses a body's edge gathers for this many steps before it falls as
 // one parcel (10 ms at 2 ms): a stream of parcels a few mm apart, not one per
 // step and slot.
@@ -251,7 +251,7 @@ void MaterialExchange::move_parcels() {
   for (std::size_t n = 0; n < parcels_.size();) {
     FallingParcel& p = parcels_[n];
     const double previous_z = p.position_m.z();
-    p.velocity_m_s.z() -= kGravity * dt_s_;  // semi-implicit Euler: exact fall time to O(dt)
+    p.velocity_m_s.z() -= kGravity_m_s2 * dt_s_;  // semi-implicit Euler: exact fall time to O(dt)
     p.position_m += p.velocity_m_s * dt_s_;
     // Lands on the highest surface it has reached this step.
     double best = -std::numeric_limits<double>::infinity();

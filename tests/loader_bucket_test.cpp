@@ -11,6 +11,7 @@
 #include <cstring>
 #include <vector>
 
+#include "common/physical_constants.h"
 #include "engine/soil_site.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
@@ -242,7 +243,7 @@ TEST(LoaderBucket, LoadInTheBucketReachesTheLiftCylinder) {
       com /= mass;
       w.step(c);
       const double weight = w.bucket_load_N();
-      EXPECT_NEAR(weight, mass * 9.81, 1e-9 * weight) << "the base loads must sum to the weight";
+      EXPECT_NEAR(weight, mass * kGravity_m_s2, 1e-9 * weight) << "the base loads must sum to the weight";
       EXPECT_LT((w.bucket_load_point_m() - com).head<2>().norm(), 0.015) << "rollback " << rollback;
       if (!material) {
         for (int j = 0; j < b.grid().ny(); ++j)

@@ -4,6 +4,7 @@
 
 #include <cstring>
 
+#include "common/physical_constants.h"
 #include "tests/loader_support.h"
 #include "vehicle/loader_figures.h"
 
@@ -147,7 +148,7 @@ TEST(LoaderDrive, PushingAgainstAWallGivesTheClasssPushForce) {
   EXPECT_LT(w->loader().chassis_velocity().norm(), 0.05);
   const auto& d = shipped_loader();
   const vehicle::LoaderFigures f = vehicle::loader_figures(d);
-  const double friction = d.tyre.mu_x * 9.81 * d.total_mass_kg();
+  const double friction = d.tyre.mu_x * kGravity_m_s2 * d.total_mass_kg();
   EXPECT_NEAR(push, std::min(1e3 * f.push_force_kN, friction), 0.1 * friction);
   for (int k = 0; k < 4; ++k) EXPECT_LT(w->loader().wheel_hub(k).x() + d.tyre.radius_m, 3.5);  // nothing through the wall
   EXPECT_TRUE(w->events().finite);
@@ -176,7 +177,7 @@ TEST(LoaderDrive, FullLeverLaunchKeepsTheFrontWheelsDown) {
       least_front = std::min(least_front, front);
     }
     RecordProperty(std::string("least_front_load_N") + (from_brake ? "_from_brake" : ""), std::to_string(least_front));
-    EXPECT_GT(least_front, 0.05 * 9.81 * d.total_mass_kg()) << (from_brake ? "from the brake" : "from standstill");
+    EXPECT_GT(least_front, 0.05 * kGravity_m_s2 * d.total_mass_kg()) << (from_brake ? "from the brake" : "from standstill");
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <numeric>
 
+#include "common/physical_constants.h"
 #include "tests/loader_support.h"
 #include "vehicle/cylinder_geometry.h"
 
@@ -80,8 +81,8 @@ TEST(LoaderHydraulics, HeavyLoadIsLoweredAtTheFlowsSpeed) {
   const int bucket = static_cast<int>(d.links.size()) - 1;
   // 2 t in the bucket needs more than the rod side's relief to hold; a
   // counterweight on the rear keeps the machine from tipping.
-  w->set_link_load(bucket, Eigen::Vector3d(0, 0, -9.81 * 2000.0), d.bucket_load_centre_m);
-  w->set_link_load(0, Eigen::Vector3d(0, 0, -9.81 * 3000.0), Eigen::Vector3d(-1.3, 0.0, 0.0));
+  w->set_link_load(bucket, Eigen::Vector3d(0, 0, -kGravity_m_s2 * 2000.0), d.bucket_load_centre_m);
+  w->set_link_load(0, Eigen::Vector3d(0, 0, -kGravity_m_s2 * 3000.0), Eigen::Vector3d(-1.3, 0.0, 0.0));
   vehicle::LoaderControls c;
   run_for(*w, c, 1.0);
   c.lift = -1.0;

@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "common/physical_constants.h"
 #include "engine/soil_site.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
@@ -298,7 +299,7 @@ TEST(LoaderSoftSoil, TyreForcesChangeContinuouslyFromFirmGroundToSand) {
   // Per 2 ms step, under a tenth of a wheel's share of the weight: the firm
   // edge passes smoothly (Bullet's contact test meets the edge as the disc
   // does), and what is left is the soil's own cell-by-cell grain.
-  EXPECT_LT(largest_jump, 0.1 * 9.81 * d.total_mass_kg() / d.wheels.size());
+  EXPECT_LT(largest_jump, 0.1 * kGravity_m_s2 * d.total_mass_kg() / d.wheels.size());
   EXPECT_TRUE(w->events().finite);
 }
 

@@ -3,13 +3,13 @@
 // the simulation against the moment balance of the same model.
 #include <gtest/gtest.h>
 
+#include "common/physical_constants.h"
 #include "tests/loader_support.h"
 #include "vehicle/loader_figures.h"
 
 namespace skidsim::testing {
 namespace {
 
-constexpr double kG = 9.81;
 
 // Payload (N, downward at the load centre) that balances the machine about
 // its front contact line, for the pose the simulation is in now.
@@ -25,7 +25,7 @@ double moment_balance_tipping_load(const vehicle::Loader& l) {
   front_x /= front;
   double restoring = 0.0;
   for (size_t k = 0; k < d.links.size(); ++k)
-    restoring += d.links[k].mass_kg * kG * (front_x - (l.link_pose(static_cast<int>(k)) * d.links[k].com.position_m).x());
+    restoring += d.links[k].mass_kg * kGravity_m_s2 * (front_x - (l.link_pose(static_cast<int>(k)) * d.links[k].com.position_m).x());
   const int bucket = static_cast<int>(d.links.size()) - 1;
   const double load_x = (l.link_pose(bucket) * d.bucket_load_centre_m).x();
   return restoring / (load_x - front_x);
@@ -45,7 +45,7 @@ TEST(LoaderTipping, StaticTippingLoadMatchesTheMomentBalanceAndTheClass) {
     balance_N = moment_balance_tipping_load(w->loader());
   }
   ASSERT_GE(w->events().rear_wheels_unloaded_s, 0.0);
-  const double tipping_kg = payload_N / kG, balance_kg = balance_N / kG;
+  const double tipping_kg = payload_N / kGravity_m_s2, balance_kg = balance_N / kGravity_m_s2;
   RecordProperty("tipping_load_kg", std::to_string(tipping_kg));
   RecordProperty("moment_balance_kg", std::to_string(balance_kg));
   EXPECT_NEAR(tipping_kg, balance_kg, 0.05 * balance_kg);
@@ -62,7 +62,7 @@ TEST(LoaderTipping, LiftingPastTheTippingLoadTipsAndIsReported) {
   auto w = loader_on_ground(0.0, 0.0, 0.1, 0.1);
   const auto& d = shipped_loader();
   const int bucket = static_cast<int>(d.links.size()) - 1;
-  w->set_link_load(bucket, Eigen::Vector3d(0, 0, -2.0 * 0.5 * kG * d.total_mass_kg()), d.bucket_load_centre_m);
+  w->set_link_load(bucket, Eigen::Vector3d(0, 0, -2.0 * 0.5 * kGravity_m_s2 * d.total_mass_kg()), d.bucket_load_centre_m);
   vehicle::LoaderControls c;
   c.lift = 1.0;
   double lowest_chassis_z = 1e9;

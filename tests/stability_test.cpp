@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "common/physical_constants.h"
 #include "engine/soil_site.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
@@ -72,7 +73,7 @@ struct Watch {
 double energy_J(const engine::World& w) {  // the chassis's share: m g z + 1/2 m v^2
   const double m = w.loader().description().total_mass_kg();
   const double v = w.loader().chassis_velocity().norm();
-  return m * 9.81 * w.loader().link_pose(0).translation().z() + 0.5 * m * v * v;
+  return m * kGravity_m_s2 * w.loader().link_pose(0).translation().z() + 0.5 * m * v * v;
 }
 
 // A column of sand 2 m tall on one 5 cm cell collapses into a cone: the
@@ -195,7 +196,7 @@ TEST(Stability, DroppedFromFiveMetres) {
 TEST(Stability, LiftingPastTheTippingLoad) {
   auto w = loader_on_ground(0.0, 0.0, 0.2, 0.3);
   const int bucket = static_cast<int>(w->loader().description().links.size()) - 1;
-  w->set_link_load(bucket, Eigen::Vector3d(0, 0, -9.81 * 2500.0), Eigen::Vector3d(0.4, 0.0, 0.0));  // 2.5 t: tipping load 1.36 t
+  w->set_link_load(bucket, Eigen::Vector3d(0, 0, -kGravity_m_s2 * 2500.0), Eigen::Vector3d(0.4, 0.0, 0.0));  // 2.5 t: tipping load 1.36 t
   Watch watch;
   watch.start(*w);
   vehicle::LoaderControls raise;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/physical_constants.h"
 #include "body_automaton_support.h"
 #include "terrain/body_automaton.h"
 #include "terrain/material_exchange.h"
@@ -122,7 +123,7 @@ TEST(BodyAutomaton, SpilledMaterialFallsForItsHeight) {
   }
   ASSERT_GT(first_spawn, 0.0);
   ASSERT_GT(first_landing, 0.0);
-  const double expected = std::sqrt(2.0 * height / 9.81);
+  const double expected = std::sqrt(2.0 * height / kGravity_m_s2);
   EXPECT_NEAR(first_landing - first_spawn, expected, 3 * kDt);
 }
 

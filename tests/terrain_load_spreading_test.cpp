@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "common/physical_constants.h"
 #include "terrain/load_spreading.h"
 #include "test_support.h"
 
@@ -34,20 +35,20 @@ TEST_P(PileCellSizes, PileLoadSumsToItsWeightAndFollowsItSmoothly) {
   const double d = GetParam();
   const GranularGrid g = poured_pile(d, 0.12);
   ASSERT_TRUE(g.at_rest());
-  const double weight_N = static_cast<double>(g.total_quanta()) * g.quantum_mass_kg() * 9.81;
+  const double weight_N = static_cast<double>(g.total_quanta()) * g.quantum_mass_kg() * kGravity_m_s2;
   std::vector<double> loads;
   LoadSpreadingScratch scratch;
   for (double block_cells : {1.0, 1.5, 2.0}) {
     LoadSpreading spreading;
     spreading.block_height_cells = block_cells;
-    base_loads_N(g, spreading, 9.81, &loads, &scratch);
+    base_loads_N(g, spreading, kGravity_m_s2, &loads, &scratch);
     double sum = 0.0;
     for (double l : loads) sum += l;
     EXPECT_NEAR(sum, weight_N, 1e-12 * weight_N) << "the base loads must sum to the weight";
     // Along the pile's axis: the load peaks at the centre, falls off on
     // both sides, and has no kinks larger than the pile's own.
     const int n = g.nx(), c = n / 2;
-    const double column_N = g.material_m(c, c) * g.soil().bulk_density_kg_m3 * 9.81 * d * d;
+    const double column_N = g.material_m(c, c) * g.soil().bulk_density_kg_m3 * kGravity_m_s2 * d * d;
     EXPECT_LT(loads[static_cast<std::size_t>(g.index(c, c))], column_N) << "eps > 1/3 moves load sideways";
     double peak = 0.0;
     for (int i = 0; i < n; ++i) peak = std::max(peak, loads[static_cast<std::size_t>(g.index(i, c))]);
@@ -73,7 +74,7 @@ TEST_P(PileCellSizes, PileLoadSumsToItsWeightAndFollowsItSmoothly) {
       for (int i = 0; i < n; ++i) {
         if (std::hypot(i - c, j - c) < half - c) continue;
         flank_load += loads[static_cast<std::size_t>(g.index(i, j))];
-        flank_columns += g.material_m(i, j) * g.soil().bulk_density_kg_m3 * 9.81 * d * d;
+        flank_columns += g.material_m(i, j) * g.soil().bulk_density_kg_m3 * kGravity_m_s2 * d * d;
       }
     EXPECT_GT(flank_load, flank_columns);
   }
@@ -90,7 +91,7 @@ TEST(LoadSpreading, ThinnerBlocksSpreadMore) {
   for (double block_cells : {1.0, 1.5, 2.0}) {
     LoadSpreading s;
     s.block_height_cells = block_cells;
-    base_loads_N(g, s, 9.81, &loads, &scratch);
+    base_loads_N(g, s, kGravity_m_s2, &loads, &scratch);
     const double centre = loads[static_cast<std::size_t>(g.index(c, c))];
     EXPECT_GT(centre, previous);
     previous = centre;

@@ -142,7 +142,7 @@ Loader::Loader(const LoaderDescription& description, btMultiBodyDynamicsWorld& w
   // The drive is calibrated on the rolling radius under the machine's own
   // weight, so that a full lever gives the rated top speed.
   const double static_deflection =
-      9.81 * d_.total_mass_kg() / (static_cast<double>(d_.wheels.size()) * d_.tyre.radial_stiffness_N_per_m);
+      kGravity_m_s2 * d_.total_mass_kg() / (static_cast<double>(d_.wheels.size()) * d_.tyre.radial_stiffness_N_per_m);
   drive_radius_m_ = d_.tyre.radius_m - static_deflection / 3.0;
 }
 

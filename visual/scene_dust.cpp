@@ -1,3 +1,4 @@
+#include "common/physical_constants.h"
 #include "visual/scene_dust.h"
 
 #include <algorithm>
@@ -6,7 +7,6 @@
 namespace skidsim::visual {
 namespace {
 
-constexpr double kGravity = 9.81;
 const Eigen::Vector3f kDustColour(0.80f, 0.71f, 0.56f);
 const Eigen::Vector3f kFallingSand(0.66f, 0.53f, 0.34f);
 // The thesis gives no numbers for its emitters; these are chosen to look
@@ -68,8 +68,8 @@ void DustSystem::advance(const engine::World& world, const std::vector<Eigen::Ve
       const double ground = ground_height_m(world, p.position_m), above = p.position_m.z() - ground;
       const double vz = p.velocity_m_s.z();
       if (vz < 0.0 && above <= -vz * dt_s + 0.02) {
-        const double fall_m = vz * vz / (2.0 * kGravity) + std::max(0.0, above);
-        const double speed = 0.25 * std::sqrt(2.0 * kGravity * fall_m);
+        const double fall_m = vz * vz / (2.0 * kGravity_m_s2) + std::max(0.0, above);
+        const double speed = 0.25 * std::sqrt(2.0 * kGravity_m_s2 * fall_m);
         const double kg = static_cast<double>(p.quanta) * quantum_kg;
         const int n = static_cast<int>(std::clamp(kg * kLandingPuffsPerKg * (1.0 + fall_m), 1.0, kMaxPuffsPerLanding));
         for (int k = 0; k < n; ++k) {
