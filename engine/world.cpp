@@ -451,12 +451,13 @@ void World::watch_stability() {
   const vehicle::Loader& l = *loader_;
   // The rear wheels unloaded: under a hundredth of the machine's weight.
   constexpr double kRearUnloadedShareOfWeight = 0.01;
+  constexpr double kTippedOverTilt_rad = 0.25 * kPi;  // the chassis' z axis 45 deg from vertical
   const double rear_load = l.axle_loads().rear_N;
   const double weight = kGravity_m_s2 * l.description().total_mass_kg();
   if (events_.rear_wheels_unloaded_s < 0.0 && rear_load < kRearUnloadedShareOfWeight * weight)
     events_.rear_wheels_unloaded_s = time_s();
   const Eigen::Isometry3d chassis = l.link_pose(0);
-  if (events_.tipped_over_s < 0.0 && chassis.linear()(2, 2) < std::cos(0.25 * kPi))
+  if (events_.tipped_over_s < 0.0 && chassis.linear()(2, 2) < std::cos(kTippedOverTilt_rad))
     events_.tipped_over_s = time_s();
   if (!chassis.matrix().allFinite() || !l.chassis_velocity().allFinite()) events_.finite = false;
 }

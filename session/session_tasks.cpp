@@ -23,6 +23,14 @@ constexpr double kTippingRearmRearShare = 0.1;   // ... and carrying again: over
 constexpr double kSampleS = 0.2;   // the bucket's load is looked at this often
 constexpr double kSettleS = 2.0;   // after leaving the cut, before its load counts as carried
 constexpr double kImpactMps2 = 40.0;  // about 4 g; the shipped scripts peak at 8-31
+constexpr double kEventRearmS = 0.5;    // one impact, or one lasting contact, counts once within this
+constexpr double kSettlingS = 1.0;      // the machine settling onto its wheels: no impacts counted
+constexpr double kIdleSpeedMps = 0.05;  // slower than this the machine idles
+constexpr double kSlipLimit = 0.3;      // a wheel slipping more than this spins
+constexpr double kOutOfCutM = 0.3;      // the lip this far above the ground has left the cut
+constexpr double kPassMinKg = 50.0;     // a load smaller than this is no pass
+constexpr double kPassEndShare = 0.9;   // a pass ends when the bucket holds less than this share of it
+constexpr double kEmptiedS = 0.4;       // ... or has been empty this long
 
 }  // namespace
 
@@ -131,19 +139,19 @@ void SessionTasks::sample_bucket(const engine::World& w, double t) {
   Eigen::Vector3d lip_m = l.link_pose(static_cast<int>(l.description().links.size()) - 1).translation();
   if (const terrain::BodyAutomaton* b = w.bucket_material())
     lip_m = b->pose() * Eigen::Vector3d(b->shape().length_m, 0.5 * b->shape().width_m, 0.0);
-  const bool out_of_cut = lip_m.z() - ground_height_m(w, lip_m.head<2>()) > 0.3;
+  const bool out_of_cut = lip_m.z() - ground_height_m(w, lip_m.head<2>()) > kOutOfCutM;
   const double lost = std::max(0.0, last_bucket_kg_ - bucket_kg);
   last_bucket_kg_ = bucket_kg;
   out_of_cut_s_ = out_of_cut ? out_of_cut_s_ + kSampleS : 0.0;
   if (out_of_cut_s_ < kSettleS - 1e-9) return;  // in the cut, or lifting out of it
   if (pass_load_kg_ == 0.0 || out_of_cut_s_ < kSettleS + 0.5 * kSampleS) {
     // Just settled: this is what the pass carries.
-    if (bucket_kg >= 50.0 && (pass_load_kg_ == 0.0 || bucket_kg > pass_load_kg_)) pass_load_kg_ = bucket_kg;
+    if (bucket_kg >= kPassMinKg && (pass_load_kg_ == 0.0 || bucket_kg > pass_load_kg_)) pass_load_kg_ = bucket_kg;
     return;
   }
   if (lost > 0.0 && !over_target(lip_m.head<2>())) metrics_.spillage_kg += lost;
   emptied_s_ = bucket_kg < pass_load_kg_ / 3.0 ? emptied_s_ + kSampleS : 0.0;
-  if (emptied_s_ >= 0.4 - 1e-9) end_pass(t);
+  if (emptied_s_ >= kEmptiedS - 1e-9) end_pass(t);
 }
 
 void SessionTasks::end_pass(double t) {
@@ -160,7 +168,7 @@ void SessionTasks::finish(const engine::World& w) {
   // A pass whose dump had begun when the session ended (its task done
   // mid-dump) counts.
   const double bucket_kg = w.bucket_material() ? w.bucket_material()->material_mass_kg() : 0.0;
-  if (pass_load_kg_ >= 50.0 && bucket_kg < 0.9 * pass_load_kg_) end_pass(w.time_s());
+  if (pass_load_kg_ >= kPassMinKg && bucket_kg < kPassEndShare * pass_load_kg_) end_pass(w.time_s());
 }
 
 double SessionTasks::ground_height_m(const engine::World& w, const Eigen::Vector2d& xy) const {
@@ -326,20 +334,20 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
     tipping_ = true;
   }
   if (tipping_ && rear_loaded_s_ >= kTippingRearmS) tipping_ = false;
-  if (l.chassis_velocity().head<2>().norm() < 0.05) metrics_.idle_time_s += dt_s;
-  if (worst_slip > 0.3) metrics_.wheel_slip_time_s += dt_s;
+  if (l.chassis_velocity().head<2>().norm() < kIdleSpeedMps) metrics_.idle_time_s += dt_s;
+  if (worst_slip > kSlipLimit) metrics_.wheel_slip_time_s += dt_s;
   // Harsh handling: the bucket's centre of mass changing velocity faster
   // than kImpactMps2 over a tick (dropped onto the ground, slammed into a
-  // stop or a truck's side); one impact counts once within 0.5 s.
+  // stop or a truck's side); one impact counts once within kEventRearmS.
   {
     Eigen::Vector3d v, omega;
     l.link_velocity(static_cast<int>(l.description().links.size()) - 1, v, omega);
     since_impact_s_ += dt_s;
     if (have_bucket_velocity_) {
       const double a = (v - bucket_velocity_).norm() / dt_s;
-      if (t > 1.0) metrics_.peak_bucket_acceleration_m_s2 = std::max(metrics_.peak_bucket_acceleration_m_s2, a);
+      if (t > kSettlingS) metrics_.peak_bucket_acceleration_m_s2 = std::max(metrics_.peak_bucket_acceleration_m_s2, a);
       // (Not in the first second: the machine settling onto its wheels.)
-      if (a > kImpactMps2 && since_impact_s_ >= 0.5 && t > 1.0) {
+      if (a > kImpactMps2 && since_impact_s_ >= kEventRearmS && t > kSettlingS) {
         metrics_.bucket_impacts += 1.0;
         since_impact_s_ = 0.0;
         emit(t, "warning", "bucket impact: " + std::to_string(std::lround(a / kGravity_m_s2)) + " g", 1);
@@ -350,7 +358,7 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
   }
   // A collision: the machine's body, arm or bucket touching an obstacle or a
   // truck; one contact that lasts counts once, and a new one only after the
-  // machine has been clear for 0.5 s.
+  // machine has been clear for kEventRearmS.
   const bool touching = w.machine_touches_obstacle();
   apart_s_ = touching ? 0.0 : apart_s_ + dt_s;
   if (touching && !touching_) {
@@ -358,7 +366,7 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
     emit(t, "collision", "the machine hit an obstacle", 2);
   }
   if (touching) touching_ = true;
-  if (touching_ && apart_s_ >= 0.5) touching_ = false;
+  if (touching_ && apart_s_ >= kEventRearmS) touching_ = false;
   safety_.update(w, t, dt_s, [this](double at, const std::string& kind, const std::string& text, int severity) {
     emit(at, kind, text, severity);
   });
