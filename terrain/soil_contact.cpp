@@ -40,6 +40,10 @@ int SoilContactModel::add_soil(const SoilMechanics& soil) {
   r.phi_rad = radians(soil.friction_angle_deg);
   r.tan_tool_friction = std::tan(radians(soil.tool_friction_angle_deg));
   r.rho_table = WedgeAngleTable(r.phi_rad);
+  r.cutting.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
+  r.cutting.friction_angle_rad = r.phi_rad;
+  r.cutting.tool_adhesion_Pa = 1000.0 * soil.tool_adhesion_kPa;
+  r.cutting.tool_friction_angle_rad = radians(soil.tool_friction_angle_deg);
   regions_.push_back(r);
   return static_cast<int>(regions_.size()) - 1;
 }
@@ -64,6 +68,27 @@ void SoilContactModel::reserve_body(int body_id, double diagonal_m) {
   state.sliced.reserve(cells);
   slots_.reserve(std::max(slots_.capacity(), cells));
   mapper_.reserve(static_cast<std::size_t>((reach + 1.0) * (reach + 1.0)));
+}
+
+void SoilContactModel::set_tool_face(int body_id, const Eigen::Vector3d& outward_normal_world) {
+  BodyState& state = body_state(body_id);
+  state.has_tool_face = outward_normal_world.allFinite() && outward_normal_world.norm() > 0.0;
+  if (state.has_tool_face) state.tool_face_normal = outward_normal_world.normalized();
+}
+
+double SoilContactModel::tool_rake_rad(const BodyState& state, int f) const {
+  // The face's angle from the horizontal seen along direction f: its normal
+  // leans ahead by atan2(n . D, n_z) from the vertical. McKyes-Ali's
+  // mechanism holds from a shallow rake to a vertical face; a face turned
+  // away from f, overhanging, or without a declared face pushes with the
+  // vertical interface.
+  constexpr double kShallowestRake_rad = 10.0 * kPi / 180.0;
+  constexpr double kVertical_rad = 0.5 * kPi;
+  if (!state.has_tool_face) return kVertical_rad;
+  const Eigen::Vector3d& n = state.tool_face_normal;
+  const double ahead = n.x() * kFaceStep[f][0] + n.y() * kFaceStep[f][1];
+  if (!(ahead > 0.0) || !(n.z() > 0.0)) return kVertical_rad;
+  return std::clamp(std::atan2(ahead, n.z()), kShallowestRake_rad, kVertical_rad);
 }
 
 void SoilContactModel::set_slicing(int body_id, bool on, const Eigen::Vector2d& forward) {
@@ -280,6 +305,7 @@ double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface
   double u = d - face.s_m;
   double total = clipped_section(face.depth_m, t, 0.0, u);
   int i = c.i, j = c.j;
+  wedge_end_surface_m_ = c.bottom_z_m + face.depth_m;
   if (beyond_body) {
     // Pushed material lands beyond the body's own cells, never under it.
     while (map_slot(i + kFaceStep[f][0], j + kFaceStep[f][1]) >= 0) {
@@ -294,6 +320,7 @@ double SoilContactModel::walk_wedge(const CellContact& c, int f, const Interface
     const int n = grid_.index(i, j);
     if (grid_.covered(n) || map_slot(i, j) >= 0) break;
     const double a = grid_.surface_at(n) - c.bottom_z_m;
+    wedge_end_surface_m_ = grid_.surface_at(n);
     const double section = clipped_section(a, t, u, u + d);
     wedge_cells_.push_back(n);
     wedge_area_.push_back(section);
@@ -369,7 +396,7 @@ int SoilContactModel::map_slot(int i, int j) const {
   return slots_[static_cast<std::size_t>(j) * slot_ni_ + i];
 }
 
-void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out) {
+void SoilContactModel::wedge_reactions(const BodyState& state, const ContactMap& map, BodyReaction& out) {
   const double gamma_g = grid_.soil().bulk_density_kg_m3 * kGravity_m_s2;
   const double d = grid_.cell_size_m();
   interfaces_.clear();
@@ -395,13 +422,24 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
     WedgeReaction& w = out.wedge[f];
     w.width_m = width;
     w.depth_m = depth_width / width;
+    const bool thesis = region.soil.cutting == CuttingModel::kThesisWedge;
+    w.rake_rad = thesis ? 0.5 * kPi : tool_rake_rad(state, f);
+    CuttingSoil cutting = region.cutting;
+    cutting.unit_weight_N_per_m3 = gamma_g;
+    CuttingTool tool;
+    tool.depth_m = w.depth_m;
+    tool.width_m = width;
+    tool.rake_rad = w.rake_rad;
+    // The failure plane of flat ground walks the soil actually in front.
     w.rho_rad = region.rho_table.rho_rad(w.depth_m / width);
+    double cut_depth_width = 0.0;  // the tool's depth below the ground where the wedge ends, by width
     Eigen::Vector3d point = Eigen::Vector3d::Zero();
     for (const FaceRef& r : interfaces_) {
       if (r.direction != f) continue;
       const CellContact& c = map.cells[r.contact];
       const Interface& face = r.face;
       w.weight_N += gamma_g * face.w_m * walk_wedge(c, f, face, w.rho_rad, false);
+      cut_depth_width += face.w_m * std::clamp(wedge_end_surface_m_ - c.bottom_z_m, 0.0, face.depth_m);
       // The interface: from the cell edge behind it, s along the direction.
       const Eigen::Vector2d centre =
           grid_.spec().origin_m + d * Eigen::Vector2d(c.i, c.j);
@@ -413,9 +451,26 @@ void SoilContactModel::wedge_reactions(const ContactMap& map, BodyReaction& out)
       point += face.w_m * p;
     }
     w.point_m = point / width;
-    const double side =
-        wedge_side_friction_N(region.phi_rad, w.rho_rad, grid_.soil().bulk_density_kg_m3, w.depth_m);
-    w.bound_N = wedge_limit_N(region.phi_rad, w.rho_rad, w.weight_N, side);
+    if (thesis) {
+      const double side =
+          wedge_side_friction_N(region.phi_rad, w.rho_rad, grid_.soil().bulk_density_kg_m3, w.depth_m);
+      w.bound_N = wedge_limit_N(region.phi_rad, w.rho_rad, w.weight_N, side);
+      continue;
+    }
+    // The equation's d is the tool's depth in the ground it cuts: below the
+    // surface where the wedge ends, not the heap against the face (the
+    // interfaces' H). The soil above that level in the wedge is McKyes's
+    // surcharge q, spread over the failure zone's length at the surface.
+    tool.depth_m = cut_depth_width / width;
+    if (!(tool.depth_m > 0.0)) tool.depth_m = w.depth_m;
+    const CuttingForce flat = mckyes_ali(cutting, tool);
+    const double length = flat.rupture_m > 0.0 ? flat.rupture_m : tool.depth_m;
+    const double flat_weight = gamma_g * width * 0.5 * tool.depth_m * tool.depth_m / std::tan(w.rho_rad);
+    tool.surcharge_Pa = std::max(0.0, w.weight_N - flat_weight) / (width * length);
+    w.surcharge_Pa = tool.surcharge_Pa;
+    const CuttingForce force = mckyes_ali(cutting, tool);
+    if (force.failure_angle_rad > 0.0) w.rho_rad = force.failure_angle_rad;
+    w.bound_N = force.horizontal_N;
   }
 }
 
@@ -544,7 +599,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
   // when the body uncovers part of it.
   for (CellContact& c : state.next.cells)
     if (c.covered_fraction >= kFullyCovered) c.covered_level_m = grid_.surface_at(static_cast<int>(c.cell));
-  if (wedge_bounds) wedge_reactions(now, out);
+  if (wedge_bounds) wedge_reactions(state, now, out);
 
   out.shear_point_m =
       out.shear_bound_N > 0.0 ? Eigen::Vector3d(out.shear_point_m / out.shear_bound_N) : motion.reference_point_m;

@@ -27,6 +27,7 @@
 #include "terrain/body_geometry.h"
 #include "terrain/contact_map.h"
 #include "terrain/granular_grid.h"
+#include "terrain/earthmoving.h"
 #include "terrain/soil_mechanics.h"
 
 namespace skidsim::terrain {
@@ -40,7 +41,9 @@ struct WedgeReaction {
   double depth_m = 0.0;   // H, width-weighted over the interfaces
   double width_m = 0.0;   // B, the interfaces' total width
   double weight_N = 0.0;  // W, the soil in the wedge
-  double rho_rad = 0.0;   // angle of the fracture plane
+  double rho_rad = 0.0;   // angle of the fracture plane from the horizontal (beta)
+  double rake_rad = 0.0;  // the tool face's angle from the horizontal (90 deg: vertical)
+  double surcharge_Pa = 0.0;  // soil heaped on the wedge beyond flat ground (earthmoving q)
 };
 
 // What the soil does to one body in one step.
@@ -131,6 +134,14 @@ class SoilContactModel {
     std::int64_t quanta;
   };
   void set_slicing(int body_id, bool on, const Eigen::Vector2d& forward = Eigen::Vector2d::UnitX());
+
+  // The face a body pushes soil with (a blade's front, the bucket's back
+  // plate): its outward unit normal in the world frame, set again as the body
+  // turns. The earthmoving equation takes the face's rake against each
+  // direction it pushes from it (the angle from the horizontal, 10-90 deg; a
+  // face turned away or overhanging counts as vertical). A body without one
+  // pushes with the vertical interfaces of its contact map (5.2.3).
+  void set_tool_face(int body_id, const Eigen::Vector3d& outward_normal_world);
   const std::vector<SlicedCell>& sliced(int body_id) const { return bodies_.at(body_id).sliced; }
 
   const ContactMap& contact_map(int body_id) const { return bodies_.at(body_id).map; }
@@ -151,6 +162,8 @@ class SoilContactModel {
     bool in_contact = false;
     bool slicing = false;
     Eigen::Vector2d slicing_forward = Eigen::Vector2d::UnitX();
+    bool has_tool_face = false;
+    Eigen::Vector3d tool_face_normal = Eigen::Vector3d::UnitX();
   };
   struct Push {
     std::uint32_t cell;
@@ -181,6 +194,7 @@ class SoilContactModel {
     double phi_rad = 0.0;
     double tan_tool_friction = 0.0;
     WedgeAngleTable rho_table;
+    CuttingSoil cutting;  // the earthmoving equation's soil
     double modulus_Pa = 0.0;  // Bekker's k_c / b + k_phi for this step's footprint
   };
   int region_index(int cell) const { return region_of_cell_.empty() ? 0 : region_of_cell_[cell]; }
@@ -191,7 +205,9 @@ class SoilContactModel {
 
   void press(CellContact& c, const BodyMotion& motion, BodyReaction& out);
   void push_material(const Push& push, const CellContact& c);
-  void wedge_reactions(const ContactMap& map, BodyReaction& out);
+  void wedge_reactions(const BodyState& state, const ContactMap& map, BodyReaction& out);
+  // The rake of the body's tool face against direction f (set_tool_face).
+  double tool_rake_rad(const BodyState& state, int f) const;
   bool interface_at(const CellContact& c, int direction, Interface* out) const;
   // Highest level the free part of a partly covered cell can hold, next to
   // the cell in front of it in `direction`.
@@ -235,6 +251,7 @@ class SoilContactModel {
   };
   std::vector<FaceRef> interfaces_;
   std::vector<Push> pushes_;
+  double wedge_end_surface_m_ = 0.0;  // walk_wedge: the ground where the plane came out
   std::vector<int> wedge_cells_;
   std::vector<double> wedge_area_;
 };

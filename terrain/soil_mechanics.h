@@ -17,8 +17,20 @@ enum class VerticalLoadModel {
                     // pushes material out from under the load (5.3)
 };
 
+// What bounds the soil's resistance to an interface pushing it sideways.
+enum class CuttingModel {
+  kEarthmoving,  // the fundamental earthmoving equation, McKyes and Ali's 3-D
+                 // form (terrain/earthmoving.h): the tool's rake, soil-tool
+                 // friction and adhesion, cohesion, surcharge, side crescents
+  kThesisWedge,  // the thesis's wedge (5.6): a smooth vertical face in a
+                 // cohesionless soil, Perumpral's side friction
+};
+
 struct SoilMechanics {
   VerticalLoadModel model = VerticalLoadModel::kBekker;
+  // The thesis's wedge stays the default until the earthmoving equation is
+  // checked against the DEM reference in sessions (docs/soil_contact.md).
+  CuttingModel cutting = CuttingModel::kThesisWedge;
   // Bekker (3.19): p = (k_c / b + k_phi) z^n; Wong's table in kN/m^(n+1) and
   // kN/m^(n+2), so p comes out in kPa.
   double n = 1.1;

@@ -10,6 +10,7 @@
 
 #include "common/physical_constants.h"
 #include "terrain/body_shapes.h"
+#include "terrain/earthmoving.h"
 #include "terrain/soil_contact.h"
 #include "tests/soil_contact_support.h"
 
@@ -69,6 +70,67 @@ TEST(FractureWedge, VerticalBladeMeetsTheWedgeLimitOnFlatGround) {
   }
 }
 
+// The earthmoving equation evaluated for the soil apart from the contact
+// model: a blade of width w at depth d with its face at `rake_deg`.
+CuttingForce equation(const SoilMechanics& soil, double density_kg_m3, double depth_m, double width_m, double rake_deg) {
+  CuttingSoil s;
+  s.unit_weight_N_per_m3 = density_kg_m3 * kGravity_m_s2;
+  s.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
+  s.friction_angle_rad = deg_to_rad(soil.friction_angle_deg);
+  s.tool_adhesion_Pa = 1000.0 * soil.tool_adhesion_kPa;
+  s.tool_friction_angle_rad = deg_to_rad(soil.tool_friction_angle_deg);
+  CuttingTool t;
+  t.depth_m = depth_m;
+  t.width_m = width_m;
+  t.rake_rad = deg_to_rad(rake_deg);
+  return mckyes_ali(s, t);
+}
+
+// A blade in its slot on flat ground, pushing with a face at `rake_deg`
+// (90: no face declared, the vertical interface): the bound ahead.
+WedgeReaction blade_on_flat_ground(const SoilMechanics& soil, double cells_per_m, double depth, double rake_deg) {
+  GranularGrid g = testing::flat_site(cells_per_m, 3.0, kSoilDepth);
+  const OrientedBox blade = blade_at(1.0137, 1.5013, depth, 0.8);
+  carve_slot(g, blade);
+  SoilContactModel model(g, soil);
+  if (rake_deg < 90.0)
+    model.set_tool_face(0, Eigen::Vector3d(std::sin(deg_to_rad(rake_deg)), 0.0, std::cos(deg_to_rad(rake_deg))));
+  BodyMotion still;
+  still.reference_point_m = blade.centre_m;
+  model.embed(0, blade, still);
+  return model.interact(0, blade, still).wedge[0];
+}
+
+TEST(EarthmovingBlade, MeetsTheEquationOnFlatGroundAtAnyCellSize) {
+  SoilMechanics soil;  // dry sand: phi = 28 deg, c = 1.04 kPa, delta = 20 deg
+  soil.cutting = CuttingModel::kEarthmoving;
+  for (double cells_per_m : {5.0, 10.0, 20.0, 50.0})
+    for (double depth : {0.1, 0.2, 0.3})
+      for (double rake : {90.0, 60.0, 45.0}) {
+        const WedgeReaction w = blade_on_flat_ground(soil, cells_per_m, depth, rake);
+        const double expected = equation(soil, 1600.0, depth, 0.8, rake).horizontal_N;
+        EXPECT_NEAR(w.bound_N, expected, 0.05 * expected) << cells_per_m << " cells/m, d " << depth << ", rake " << rake;
+        EXPECT_NEAR(rad_to_deg(w.rake_rad), rake, 1e-9);
+        EXPECT_LT(w.surcharge_Pa, 0.02 * 1600.0 * kGravity_m_s2 * depth) << "flat ground: no surcharge";
+      }
+}
+
+TEST(EarthmovingBlade, AFaceTurnedAwayPushesWithTheVerticalInterface) {
+  SoilMechanics soil;
+  soil.cutting = CuttingModel::kEarthmoving;
+  GranularGrid g = testing::flat_site(10.0, 3.0, kSoilDepth);
+  const OrientedBox blade = blade_at(1.0137, 1.5013, 0.2, 0.8);
+  carve_slot(g, blade);
+  SoilContactModel model(g, soil);
+  model.set_tool_face(0, Eigen::Vector3d(-std::sqrt(0.75), 0.0, 0.5));  // facing -x: raked for a push that way only
+  BodyMotion still;
+  still.reference_point_m = blade.centre_m;
+  model.embed(0, blade, still);
+  const BodyReaction r = model.interact(0, blade, still);
+  EXPECT_NEAR(rad_to_deg(r.wedge[0].rake_rad), 90.0, 1e-9);
+  EXPECT_NEAR(rad_to_deg(r.wedge[1].rake_rad), 60.0, 1e-6);
+}
+
 struct PushRecord {
   std::vector<double> resistance_N;  // per 0.5 m of travel
   std::int64_t quanta_before = 0, quanta_after = 0;
@@ -78,7 +140,7 @@ struct PushRecord {
 
 // Pushes the blade `distance_m` along +x at `speed_m_s`, then pulls it back
 // 0.5 m and lets the soil settle.
-PushRecord push_blade(double cells_per_m, double distance_m, double speed_m_s) {
+PushRecord push_blade(double cells_per_m, double distance_m, double speed_m_s, const SoilMechanics& soil = {}) {
   const double dt = 0.002;
   GridSpec spec;
   spec.cell_size_m = 1.0 / cells_per_m;
@@ -92,7 +154,7 @@ PushRecord push_blade(double cells_per_m, double distance_m, double speed_m_s) {
   carve_slot(g, blade);
   PushRecord rec;
   rec.quanta_before = g.total_quanta();
-  SoilContactModel model(g, SoilMechanics{});
+  SoilContactModel model(g, soil);
   BodyMotion motion;
   model.embed(0, blade, motion);
   motion.linear_velocity_m_s = {speed_m_s, 0.0, 0.0};
@@ -150,6 +212,27 @@ TEST(FractureWedge, ResistanceGrowsAsSoilPilesUpAndMaterialIsConservedOverTenMet
   // 10 % (measured: 6 % after 2 m, 4 % after 10 m).
   for (std::size_t k = 4; k < runs[0].resistance_N.size(); k += 4)
     EXPECT_NEAR(runs[1].resistance_N[k], runs[0].resistance_N[k], 0.1 * runs[0].resistance_N[k]) << 0.5 * k << " m";
+}
+
+// The earthmoving equation along a push: from the equation at the start, the
+// heap in front adds as surcharge (the tool's depth stays its depth in the
+// ground ahead).
+TEST(EarthmovingBlade, ResistanceGrowsWithTheHeapAlikeAtTwoCellSizes) {
+  SoilMechanics soil;
+  soil.cutting = CuttingModel::kEarthmoving;
+  const double start = equation(soil, 1600.0, 0.2, 1.0, 90.0).horizontal_N;
+  std::vector<PushRecord> runs;
+  for (double cells_per_m : {10.0, 20.0}) {
+    runs.push_back(push_blade(cells_per_m, 4.0, 1.0, soil));
+    const PushRecord& rec = runs.back();
+    std::printf("earthmoving push, %.0f cells/m: %.0f N at the start (equation %.0f N), %.0f N after 2 m, %.0f N after 4 m\n",
+                cells_per_m, rec.resistance_N.front(), start, rec.resistance_N[4], rec.resistance_N.back());
+    EXPECT_NEAR(rec.resistance_N.front(), start, 0.05 * start) << cells_per_m;
+    EXPECT_GT(rec.resistance_N[4], 1.5 * rec.resistance_N.front()) << cells_per_m;
+    EXPECT_EQ(rec.quanta_after, rec.quanta_before);
+  }
+  for (std::size_t k = 4; k < runs[0].resistance_N.size(); k += 4)
+    EXPECT_NEAR(runs[1].resistance_N[k], runs[0].resistance_N[k], 0.15 * runs[0].resistance_N[k]) << 0.5 * k << " m";
 }
 
 }  // namespace
