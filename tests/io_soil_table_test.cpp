@@ -78,6 +78,10 @@ TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
   expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + "\n" + tm + "\n</soil>\n</soils>\n",
                {":4:", "<terramechanics>", "model", "squishy"});
   tm = kTm;
+  tm.insert(tm.find("/>"), " cutting_model=\"bulldozer\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + "\n" + tm + "\n</soil>\n</soils>\n",
+               {":4:", "<terramechanics>", "cutting_model", "bulldozer", "earthmoving"});
+  tm = kTm;
   tm.insert(tm.find("/>"), " tool_friction_angle_deg=\"75\"");
   expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + "\n" + tm + "\n</soil>\n</soils>\n",
                {":4:", "tool_friction_angle_deg"});
