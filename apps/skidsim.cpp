@@ -267,13 +267,15 @@ void add_job_commands(CLI::App& app, Commands& c) {
   c.pour_cmd->add_flag("--open-edges", c.pour.open_edges, "Site edges are drop-offs (material leaving is counted off-site) instead of walls");
 
   c.push_cmd = app.add_subcommand(
-      "push", "Push a vertical blade through a flat layer of soil and record its resistance along the push\n"
+      "push", "Push a blade (vertical or raked) through a flat layer of soil and record its resistance along the push\n"
               "(the thesis's fig. 7.12): summary.json, resistance.csv, the final terrain height map");
   add_job_options(c.push_cmd, c.push.out_dir, c.push.soil_id, c.push.soil_table_path);
   c.push_cmd->add_option("--cells-per-m", c.push.cells_per_m, "Grid density, cells per metre")->capture_default_str()->check(number_in(-1e300, 1e300));
   c.push_cmd->add_option("--layer-m", c.push.layer_m, "Depth of the flat layer of soil, m")->capture_default_str()->check(number_in(-1e300, 1e300));
   c.push_cmd->add_option("--depth-m", c.push.depth_m, "Blade edge below the surface (H), m")->capture_default_str()->check(number_in(-1e300, 1e300));
   c.push_cmd->add_option("--width-m", c.push.width_m, "Blade width (B), m")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.push_cmd->add_option("--rake-deg", c.push.rake_deg, "Blade face's angle from the horizontal (90: vertical), deg")->capture_default_str()->check(number_in(-1e300, 1e300));
+  c.push_cmd->add_option("--cutting-model", c.push.cutting_model, "earthmoving or thesis_wedge (default: the soil table's)");
   c.push_cmd->add_option("--speed-m-s", c.push.speed_m_s, "Push speed, m/s")->capture_default_str()->check(number_in(-1e300, 1e300));
   c.push_cmd->add_option("--distance-m", c.push.distance_m, "Length of the push, m")->capture_default_str()->check(number_in(-1e300, 1e300));
 

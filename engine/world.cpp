@@ -164,8 +164,8 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
       floor.half_extents_m = Eigen::Vector3d(0.5 * edge_length, 0.5 * in.width_m, 0.5 * t);
       back.pose.position_m = in.origin_m + Eigen::Vector3d(0.5 * back_t, 0.5 * in.width_m, 0.5 * in.back_height_m);
       back.half_extents_m = Eigen::Vector3d(0.5 * back_t, 0.5 * in.width_m, 0.5 * in.back_height_m);
-      link_boxes_.push_back({bucket_link, floor, {}, true});
-      link_boxes_.push_back({bucket_link, back, {}, false});
+      link_boxes_.push_back({bucket_link, floor, {}, true, true});
+      link_boxes_.push_back({bucket_link, back, {}, false, true});
       continue;
     }
     for (const vehicle::CollisionBox& b : d.links[l].collision) link_boxes_.push_back({static_cast<int>(l), b, {}});
@@ -394,6 +394,9 @@ void World::soil_on_machine() {
     const bool slicing = lb.cutting && exchange_->mouth_open(bucket_.exchange_index);
     const Eigen::Vector2d forward = (lb.shape.orientation * Eigen::Vector3d::UnitX()).head<2>();  // towards the edge
     if (lb.cutting) soil_->set_slicing(id, slicing, forward);
+    // The soil ahead of the bucket meets the back plate's inner face (the
+    // load's own face in front of it): its rake follows the curl.
+    if (lb.tool_face) soil_->set_tool_face(id, pose.linear() * Eigen::Vector3d::UnitX());
     const terrain::BodyReaction r =
         soil_on_body(id, lb.shape, motion, highest_soil_under(lb.shape.world_bounds()), true);
     if (lb.cutting && body_in_soil_[static_cast<size_t>(id)])

@@ -182,6 +182,7 @@ class World {
     vehicle::CollisionBox box;
     terrain::OrientedBox shape;
     bool cutting = false;  // the bucket's floor plate: slices into the bucket (6.4)
+    bool tool_face = false;  // the bucket's plates: push soil with the back plate's inner face
   };
   std::vector<LinkBox> link_boxes_;
   std::vector<std::unique_ptr<SoilResistance>> resistances_;  // one per link box

@@ -14,6 +14,7 @@
 #include "io/atomic_file.h"
 #include "io/soil_table.h"
 #include "terrain/body_shapes.h"
+#include "terrain/earthmoving.h"
 #include "terrain/soil_contact.h"
 
 namespace skidsim::jobs {
@@ -39,6 +40,9 @@ int run_push_job(const PushJob& job) {
           "more than 0 and less than the layer (--layer-m)");
   require(job.width_m >= 2.0 / job.cells_per_m && job.width_m <= 10.0, "--width-m", job.width_m,
           "at least two cells and at most 10 m");
+  require(job.rake_deg >= 10.0 && job.rake_deg <= 90.0, "--rake-deg", job.rake_deg, "10 to 90 deg");
+  if (!job.cutting_model.empty() && job.cutting_model != "earthmoving" && job.cutting_model != "thesis_wedge")
+    throw io::InputError("--cutting-model '" + job.cutting_model + "': expected earthmoving or thesis_wedge");
   require(job.speed_m_s >= 0.01 && job.speed_m_s <= 10.0, "--speed-m-s", job.speed_m_s, "0.01 to 10 m/s");
   require(job.distance_m > 0.0 && job.distance_m <= 100.0, "--distance-m", job.distance_m, "more than 0 and at most 100 m");
   require(job.distance_m / job.speed_m_s <= 600.0, "--distance-m", job.distance_m,
@@ -50,7 +54,10 @@ int run_push_job(const PushJob& job) {
   const io::SoilTable table = io::load_soil_table(table_path);
   const auto it = table.find(job.soil_id);
   if (it == table.end()) throw io::InputError("--soil '" + job.soil_id + "' is not in " + table_path);
-  const io::SoilRecord& soil = it->second;
+  io::SoilRecord soil = it->second;
+  if (job.cutting_model == "earthmoving") soil.terramechanics.cutting = terrain::CuttingModel::kEarthmoving;
+  if (job.cutting_model == "thesis_wedge") soil.terramechanics.cutting = terrain::CuttingModel::kThesisWedge;
+  const bool earthmoving = soil.terramechanics.cutting == terrain::CuttingModel::kEarthmoving;
 
   // The site: a strip a blade length wider than the blade on each side, the
   // push plus 3 m long; cell (0, 0) centred at (d/2, d/2).
@@ -65,12 +72,19 @@ int run_push_job(const PushJob& job) {
   terrain::SoilContactModel model(grid, soil.terramechanics);
 
   // The blade: a block at least two cells thick, its +x face the blade,
-  // started in its slot (the soil its volume overlaps taken out).
+  // started in its slot (the soil its volume overlaps taken out). A raked
+  // blade is the same block with its face declared at the rake (the face's
+  // normal (sin(rake), 0, cos(rake))): the 2.5-D grid cannot hold soil on a
+  // raked face, and the block sweeps the same section, depth by width, as a
+  // raked blade of that depth; the rake enters through the earthmoving
+  // equation.
+  const double rake = deg_to_rad(job.rake_deg);
   terrain::OrientedBox blade;
   blade.half_extents_m = {std::max(0.15, spec.cell_size_m), 0.5 * job.width_m, 0.5 * job.layer_m + 0.2};
   const double x_start = 1.0;
   blade.centre_m = {x_start, 0.5 * spec.ny * spec.cell_size_m + 1e-3,
                     job.layer_m - job.depth_m + blade.half_extents_m.z()};
+  if (job.rake_deg < 90.0) model.set_tool_face(0, Eigen::Vector3d(std::sin(rake), 0.0, std::cos(rake)));
   {
     terrain::ContactMapper mapper;
     terrain::ContactMap map;
@@ -87,6 +101,20 @@ int run_push_job(const PushJob& job) {
   const double phi = deg_to_rad(soil.terramechanics.friction_angle_deg);
   const terrain::WedgeSolution flat =
       terrain::flat_ground_wedge(phi, soil.flow.bulk_density_kg_m3, job.depth_m, job.width_m);
+  // The earthmoving equation on flat ground (McKyes and Ali), evaluated
+  // from the soil table's parameters.
+  terrain::CuttingSoil cutting;
+  cutting.unit_weight_N_per_m3 = soil.flow.bulk_density_kg_m3 * kGravity_m_s2;
+  cutting.cohesion_Pa = 1000.0 * soil.terramechanics.cohesion_kPa;
+  cutting.friction_angle_rad = phi;
+  cutting.tool_adhesion_Pa = 1000.0 * soil.terramechanics.tool_adhesion_kPa;
+  cutting.tool_friction_angle_rad = deg_to_rad(soil.terramechanics.tool_friction_angle_deg);
+  terrain::CuttingTool tool;
+  tool.depth_m = job.depth_m;
+  tool.width_m = job.width_m;
+  tool.rake_rad = rake;
+  const terrain::CuttingForce equation = terrain::mckyes_ali(cutting, tool);
+  const double gamma_d2_w = cutting.unit_weight_N_per_m3 * job.depth_m * job.depth_m * job.width_m;
 
   StagedRunDirectory run_dir(job.out_dir, "push");
   std::ostringstream csv;
@@ -126,10 +154,23 @@ int run_push_job(const PushJob& job) {
                 {"bulk_density_kg_m3", soil.flow.bulk_density_kg_m3},
                 {"table", table_path}}},
       {"site", {{"nx", spec.nx}, {"ny", spec.ny}, {"cell_size_m", spec.cell_size_m}, {"layer_m", job.layer_m}}},
-      {"blade", {{"depth_m", job.depth_m}, {"width_m", job.width_m}, {"speed_m_s", job.speed_m_s},
-                 {"distance_m", job.distance_m}}},
-      {"reference", {{"flat_ground_wedge_N", flat.force_N}, {"rho_deg", rad_to_deg(flat.rho_rad)}}},
+      {"blade", {{"depth_m", job.depth_m}, {"width_m", job.width_m}, {"rake_deg", job.rake_deg},
+                 {"speed_m_s", job.speed_m_s}, {"distance_m", job.distance_m}}},
+      {"cutting_model", earthmoving ? "earthmoving" : "thesis_wedge"},
+      {"reference",
+       {{"earthmoving_N", equation.horizontal_N},
+        {"earthmoving_terms_N",
+         {{"weight", equation.weight_term_N},
+          {"cohesion", equation.cohesion_term_N},
+          {"surcharge", equation.surcharge_term_N},
+          {"adhesion", equation.adhesion_term_N}}},
+        {"earthmoving_vertical_down_N", equation.vertical_down_N},
+        {"earthmoving_beta_deg", rad_to_deg(equation.failure_angle_rad)},
+        {"earthmoving_N_over_gamma_d2_w", gamma_d2_w > 0.0 ? equation.horizontal_N / gamma_d2_w : 0.0},
+        {"flat_ground_wedge_N", flat.force_N},
+        {"rho_deg", rad_to_deg(flat.rho_rad)}}},
       {"result", {{"resistance_at_start_N", first_N},
+                  {"start_over_gamma_d2_w", gamma_d2_w > 0.0 ? first_N / gamma_d2_w : 0.0},
                   {"resistance_at_end_N", last_N},
                   {"displaced_m3", displaced_m3},
                   {"ledger_balanced", ledger.balanced()},
@@ -143,9 +184,14 @@ int run_push_job(const PushJob& job) {
   };
   io::write_text_atomically((run_dir.staging() / "summary.json").string(), summary.dump(2) + "\n");
   run_dir.commit();
-  std::cout << "pushed a " << job.width_m << " m blade " << job.distance_m << " m at " << job.depth_m << " m deep in "
-            << job.soil_id << ": resistance " << first_N << " N at the start (flat-ground wedge " << flat.force_N
-            << " N), " << last_N << " N at the end; " << displaced_m3 << " m^3 pushed\n"
+  std::cout << "pushed a " << job.width_m << " m blade at rake " << job.rake_deg << " deg " << job.distance_m
+            << " m at " << job.depth_m << " m deep in " << job.soil_id << " ("
+            << (earthmoving ? "earthmoving equation" : "thesis wedge") << "): resistance " << first_N
+            << " N at the start, " << last_N << " N at the end; " << displaced_m3 << " m^3 pushed\n"
+            << "earthmoving equation on flat ground: " << equation.horizontal_N << " N = weight "
+            << equation.weight_term_N << " + cohesion " << equation.cohesion_term_N << " + adhesion "
+            << equation.adhesion_term_N << " N (beta " << rad_to_deg(equation.failure_angle_rad)
+            << " deg); thesis wedge " << flat.force_N << " N\n"
             << "wrote " << job.out_dir << "/summary.json, resistance.csv and the final terrain height map\n";
   return 0;
 }

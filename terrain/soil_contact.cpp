@@ -459,7 +459,7 @@ void SoilContactModel::wedge_reactions(const BodyState& state, const ContactMap&
     }
     // The equation's d is the tool's depth in the ground it cuts: below the
     // surface where the wedge ends, not the heap against the face (the
-    // interfaces' H). The soil above that level in the wedge is McKyes's
+    // interfaces' H includes it). The soil above that level in the wedge is McKyes's
     // surcharge q, spread over the failure zone's length at the surface.
     tool.depth_m = cut_depth_width / width;
     if (!(tool.depth_m > 0.0)) tool.depth_m = w.depth_m;
