@@ -19,7 +19,7 @@ TEST(SoilTable, ShippedTableLoadsAndIsValid) {
   EXPECT_LE(sand.flow.repose_angle_deg, 34.0);
   EXPECT_DOUBLE_EQ(sand.terramechanics.n, 1.1);
   EXPECT_DOUBLE_EQ(sand.terramechanics.k_phi_kN_per_m_n2, 1528.43);
-  EXPECT_EQ(table.size(), 7u);
+  EXPECT_EQ(table.size(), 8u);
   for (const auto& [id, rec] : table) {
     EXPECT_NO_THROW(terrain::validate(rec.flow)) << id;
     EXPECT_NO_THROW(terrain::validate(rec.terramechanics)) << id;
@@ -27,6 +27,11 @@ TEST(SoilTable, ShippedTableLoadsAndIsValid) {
   EXPECT_EQ(sand.terramechanics.model, terrain::VerticalLoadModel::kBekker);
   EXPECT_DOUBLE_EQ(sand.terramechanics.tool_friction_angle_deg, 19.0);
   EXPECT_EQ(table.at("gravel").terramechanics.model, terrain::VerticalLoadModel::kIncompressible);
+  // The cutting model: the thesis's wedge unless a soil selects the
+  // equation, as the DEM reference's material does.
+  EXPECT_EQ(sand.terramechanics.cutting, terrain::CuttingModel::kThesisWedge);
+  EXPECT_EQ(table.at("dem_sand").terramechanics.cutting, terrain::CuttingModel::kEarthmoving);
+  EXPECT_DOUBLE_EQ(table.at("dem_sand").terramechanics.cohesion_kPa, 0.0);
 }
 
 std::string write_temp(const std::string& name, const std::string& text) {
