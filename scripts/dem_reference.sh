@@ -29,9 +29,9 @@ mkdir -p "$SCRATCH" "$TIMES"
 rm -f "$SCRATCH"/failed.*
 mkdir -p "$SCRATCH/pile" "$SCRATCH/shear" "$SCRATCH/slide" "$SCRATCH/blade" "$SCRATCH/bucket"
 
-# rel PATH DIR: PATH relative to DIR. LIGGGHTS 3.8.0 (Debian) aborts without a message when a
-# servo mesh deck gets long absolute paths, so file names are handed to the decks relative to
-# the deck's folder.
+# rel PATH DIR: PATH relative to DIR. LIGGGHTS 3.8.0 (Debian) was seen to abort at random,
+# without a message, while importing a servo mesh when the command line held long absolute
+# paths; every file name is handed to the decks relative to the deck's folder.
 rel() { realpath -m --relative-to="$2" "$1"; }
 
 # run_deck NAME DIR DECK [liggghts args...]: runs one deck in DIR (decks use paths relative to
@@ -42,7 +42,7 @@ run_deck() {
   local t0 t1
   echo "dem_reference: $name"
   t0=$(date +%s%N)
-  if ! (cd "$dir" && nice -n 10 "$LIGGGHTS" -in "$deck" -log "$SCRATCH/$name.log" -echo none "$@" \
+  if ! (cd "$dir" && nice -n 10 "$LIGGGHTS" -in "$deck" -log "$(rel "$SCRATCH/$name.log" "$dir")" -echo none "$@" \
       > "$SCRATCH/$name.out" 2>&1); then
     echo "dem_reference: $name failed, see $SCRATCH/$name.log" >&2
     touch "$SCRATCH/failed.$name"
