@@ -5,7 +5,9 @@
 # post-processes them into the committed CSVs. See dem/README.md.
 #
 #   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide bed blade bucket post
-#                                            (default: all, in that order)
+#                                            (default: all, in that order); optional stage
+#                                            "wide": the deep vertical cut in a 0.5 m wide bin
+#                                            (its own bed, about 25 min more), then "post"
 #   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
 #
@@ -112,6 +114,17 @@ stage_bucket() {
     -var out "$(rel "$SCRATCH/bucket" "$k")" &
 }
 
+stage_wide() {
+  local b="$DEM/blade" w="$SCRATCH/wide"
+  mkdir -p "$w"
+  throttle; run_deck wide_bed "$b" bed.in -var Ly 0.50 -var scratch "$(rel "$w" "$b")" &
+  wait_ok
+  throttle
+  run_deck wide_blade_a90_d70mm "$b" blade.in -var yh 0.25 -var rake 90 -var depth 0.070 \
+    -var scratch "$(rel "$w" "$b")" -var meshdir "$(rel "$MESHES" "$b")" \
+    -var out "$(rel "$w/blade_a90_d70mm.txt" "$b")" &
+}
+
 stage_post() {
   wait_ok
   local cal="$DEM/calibration/results"
@@ -123,6 +136,9 @@ stage_post() {
   "$PY" "$DEM/tools/material_csv.py" "$cal" "$DEM/calibration/material.csv"
   "$PY" "$DEM/tools/blade_post.py" "$DEM/blade/results" "$DEM/calibration/material.csv" "$SCRATCH/blade"
   "$PY" "$DEM/tools/bucket_post.py" "$SCRATCH/bucket" "$DEM/bucket/results" "$DEM/calibration/material.csv"
+  if [[ -f "$SCRATCH/wide/blade_a90_d70mm.txt" ]]; then
+    "$PY" "$DEM/tools/blade_post.py" "$DEM/blade/results/wide_bin" "$DEM/calibration/material.csv" "$SCRATCH/wide"
+  fi
   # LIGGGHTS version and the wall time per deck
   local version
   version=$(dpkg-query -W -f='${Version}' liggghts 2>/dev/null || echo unknown)
