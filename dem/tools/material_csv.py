@@ -1,0 +1,52 @@
+#!/usr/bin/env python3
+"""Collects the calibrated bulk properties into dem/calibration/material.csv (stdlib only).
+
+Usage: material_csv.py CALIBRATION_RESULTS_DIR OUT.csv
+Reads repose.csv, shear_box.csv (Mohr-Coulomb comment lines), sliding_plate.csv
+(mean line) and bed.csv from the results folder.
+"""
+import os
+import re
+import sys
+
+
+def kv(path):
+    out = {}
+    for line in open(path):
+        p = line.strip().split(",")
+        if len(p) >= 2 and not line.startswith("#"):
+            out[p[0]] = p[1]
+    return out
+
+
+def main():
+    d, out = sys.argv[1], sys.argv[2]
+    rep = kv(os.path.join(d, "repose.csv"))
+    bed = kv(os.path.join(d, "bed.csv"))
+    shear = open(os.path.join(d, "shear_box.csv")).read()
+    pk = re.search(r"peak: phi_deg=([-\d.]+) c_Pa=([-\d.]+)", shear)
+    rs = re.search(r"residual: phi_deg=([-\d.]+) c_Pa=([-\d.]+)", shear)
+    p0 = re.search(r"through the origin \(c = 0\): phi_deg=([-\d.]+)", shear)
+    slide = open(os.path.join(d, "sliding_plate.csv")).read()
+    dl = re.search(r"delta_deg=([-\d.]+)", slide)
+    rows = [
+        ("repose_angle_deg", float(rep["repose_angle_deg"]), "deg", "calibration/pile.in"),
+        ("friction_angle_deg", float(pk.group(1)), "deg", "calibration/shear_box.in (peak, 2-10 kPa)"),
+        ("cohesion_kPa", float(pk.group(2)) / 1000, "kPa", "calibration/shear_box.in (peak intercept)"),
+        ("friction_angle_c0_deg", float(p0.group(1)), "deg", "calibration/shear_box.in (peak, fit with c = 0)"),
+        ("residual_friction_angle_deg", float(rs.group(1)), "deg", "calibration/shear_box.in (end: last 25 % of 18 mm)"),
+        ("residual_cohesion_kPa", float(rs.group(2)) / 1000, "kPa", "calibration/shear_box.in (residual intercept)"),
+        ("tool_friction_angle_deg", float(dl.group(1)), "deg", "calibration/sliding_plate.in"),
+        ("bulk_density_kg_m3", float(bed["bulk_density_kg_m3"]), "kg/m3", "blade/bed.in (core of the settled bed)"),
+        ("particle_diameter_m", 0.008, "m", "material.in (3 classes 7.2/8.0/8.8 mm, equal mass)"),
+        ("particle_density_kg_m3", 2650.0, "kg/m3", "material.in"),
+    ]
+    with open(out, "w") as f:
+        f.write("quantity,value,unit,source_deck\n")
+        for q, v, u, s in rows:
+            f.write(f"{q},{v:.4g},{u},{s}\n")
+    print(open(out).read())
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,159 @@
+#!/usr/bin/env bash
+# DEM reference for the earthmoving equation (issue "Digging forces by the earthmoving
+# equation, checked against a DEM reference"): installs LIGGGHTS if missing, regenerates the
+# meshes, runs every deck of dem/ in order (calibration, bed, blade runs, bucket) and
+# post-processes them into the committed CSVs. See dem/README.md.
+#
+#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide bed blade bucket post
+#                                            (default: all, in that order); optional stage
+#                                            "wide": the deep vertical cut in a 0.5 m wide bin
+#                                            (its own bed, about 25 min more), then "post"
+#   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
+#   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
+#
+# Takes about an hour on one core (see dem/results_meta.csv). Never run in CI.
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+DEM="$ROOT/dem"
+SCRATCH=${DEM_SCRATCH:-$ROOT/scratch/dem}
+JOBS=${DEM_JOBS:-1}
+MESHES="$SCRATCH/meshes"
+TIMES="$SCRATCH/times"
+
+# shellcheck source=scripts/packages.sh
+source "$ROOT/scripts/packages.sh"
+install_packages dem_reference liggghts
+LIGGGHTS=${LIGGGHTS:-$(command -v liggghts)}
+PY=${PYTHON:-python3}
+
+mkdir -p "$SCRATCH" "$TIMES"
+rm -f "$SCRATCH"/failed.*
+mkdir -p "$SCRATCH/pile" "$SCRATCH/shear" "$SCRATCH/slide" "$SCRATCH/blade" "$SCRATCH/bucket"
+
+# rel PATH DIR: PATH relative to DIR. LIGGGHTS 3.8.0 (Debian) was seen to abort at random,
+# without a message, while importing a servo mesh when the command line held long absolute
+# paths; every file name is handed to the decks relative to the deck's folder.
+rel() { realpath -m --relative-to="$2" "$1"; }
+
+# run_deck NAME DIR DECK [liggghts args...]: runs one deck in DIR (decks use paths relative to
+# their folder), niced, serial; its log goes to $SCRATCH/NAME.log and its wall time to $TIMES/NAME.
+run_deck() {
+  local name=$1 dir=$2 deck=$3
+  shift 3
+  local t0 t1
+  echo "dem_reference: $name"
+  t0=$(date +%s%N)
+  if ! (cd "$dir" && nice -n 10 "$LIGGGHTS" -in "$deck" -log "$(rel "$SCRATCH/$name.log" "$dir")" -echo none "$@" \
+      > "$SCRATCH/$name.out" 2>&1); then
+    echo "dem_reference: $name failed, see $SCRATCH/$name.log" >&2
+    touch "$SCRATCH/failed.$name"
+    return 1
+  fi
+  t1=$(date +%s%N)
+  printf '%s,%d.%d\n' "$name" $(((t1 - t0) / 1000000000)) $((((t1 - t0) / 100000000) % 10)) > "$TIMES/$name"
+}
+
+# wait_ok: waits for every deck in flight; stops if one failed
+wait_ok() {
+  wait
+  if compgen -G "$SCRATCH/failed.*" > /dev/null; then
+    echo "dem_reference: failed decks: $(cd "$SCRATCH" && ls failed.* | sed 's/failed.//' | xargs)" >&2
+    exit 1
+  fi
+}
+
+# throttle: at most $JOBS decks in flight
+throttle() { while (($(jobs -rp | wc -l) >= JOBS)); do wait -n || true; done; }
+
+stage_meshes() { "$PY" "$DEM/tools/meshes.py" "$MESHES"; }
+
+stage_pile() {
+  local c="$DEM/calibration"
+  throttle; run_deck pile "$c" pile.in -var meshdir "$(rel "$MESHES" "$c")" -var out "$(rel "$SCRATCH/pile" "$c")" &
+}
+
+stage_shear() {
+  local sn c="$DEM/calibration"
+  for sn in 2000 5000 10000; do
+    throttle
+    run_deck "shear_$sn" "$c" shear_box.in -var sn "$sn" -var meshdir "$(rel "$MESHES" "$c")" \
+      -var out "$(rel "$SCRATCH/shear/shear_$sn.txt" "$c")" &
+  done
+}
+
+stage_slide() {
+  local sn c="$DEM/calibration"
+  for sn in 2000 5000; do
+    throttle
+    run_deck "slide_$sn" "$c" sliding_plate.in -var sn "$sn" -var meshdir "$(rel "$MESHES" "$c")" \
+      -var out "$(rel "$SCRATCH/slide/slide_$sn.txt" "$c")" &
+  done
+}
+
+stage_bed() {
+  throttle; run_deck bed "$DEM/blade" bed.in -var scratch "$(rel "$SCRATCH" "$DEM/blade")" &
+  wait_ok  # the blade runs and the bucket start from its restart
+}
+
+stage_blade() {
+  local rake d b="$DEM/blade"
+  for rake in 90 60; do
+    for d in 40 70; do
+      throttle
+      run_deck "blade_a${rake}_d${d}mm" "$b" blade.in -var rake "$rake" \
+        -var depth "$(printf '0.%03d' "$d")" -var scratch "$(rel "$SCRATCH" "$b")" \
+        -var meshdir "$(rel "$MESHES" "$b")" -var out "$(rel "$SCRATCH/blade/blade_a${rake}_d${d}mm.txt" "$b")" &
+    done
+  done
+}
+
+stage_bucket() {
+  local k="$DEM/bucket"
+  throttle; run_deck bucket "$k" bucket.in -var scratch "$(rel "$SCRATCH" "$k")" -var meshdir "$(rel "$MESHES" "$k")" \
+    -var out "$(rel "$SCRATCH/bucket" "$k")" &
+}
+
+stage_wide() {
+  local b="$DEM/blade" w="$SCRATCH/wide"
+  mkdir -p "$w"
+  throttle; run_deck wide_bed "$b" bed.in -var Ly 0.50 -var scratch "$(rel "$w" "$b")" &
+  wait_ok
+  throttle
+  run_deck wide_blade_a90_d70mm "$b" blade.in -var yh 0.25 -var rake 90 -var depth 0.070 \
+    -var scratch "$(rel "$w" "$b")" -var meshdir "$(rel "$MESHES" "$b")" \
+    -var out "$(rel "$w/blade_a90_d70mm.txt" "$b")" &
+}
+
+stage_post() {
+  wait_ok
+  local cal="$DEM/calibration/results"
+  mkdir -p "$cal" "$DEM/blade/results" "$DEM/bucket/results"
+  "$PY" "$DEM/tools/repose.py" "$SCRATCH/pile/pile_final.dump" "$cal/repose.csv"
+  "$PY" "$DEM/tools/shear.py" "$cal/shear_box.csv" "$cal/shear_curves.csv" "$SCRATCH"/shear/shear_*.txt
+  "$PY" "$DEM/tools/slide.py" "$cal/sliding_plate.csv" "$SCRATCH"/slide/slide_*.txt
+  cp "$SCRATCH/bed.csv" "$cal/bed.csv"
+  "$PY" "$DEM/tools/material_csv.py" "$cal" "$DEM/calibration/material.csv"
+  "$PY" "$DEM/tools/blade_post.py" "$DEM/blade/results" "$DEM/calibration/material.csv" "$SCRATCH/blade"
+  "$PY" "$DEM/tools/bucket_post.py" "$SCRATCH/bucket" "$DEM/bucket/results" "$DEM/calibration/material.csv"
+  if [[ -f "$SCRATCH/wide/blade_a90_d70mm.txt" ]]; then
+    "$PY" "$DEM/tools/blade_post.py" "$DEM/blade/results/wide_bin" "$DEM/calibration/material.csv" "$SCRATCH/wide"
+  fi
+  # LIGGGHTS version and the wall time per deck
+  local version
+  version=$(dpkg-query -W -f='${Version}' liggghts 2>/dev/null || echo unknown)
+  {
+    echo "deck,wall_s,liggghts_version,date"
+    for f in "$TIMES"/*; do
+      echo "$(cat "$f"),$version,$(date -u -r "$f" +%Y-%m-%dT%H:%M:%SZ)"
+    done
+  } > "$DEM/results_meta.csv"
+}
+
+stages=("$@")
+((${#stages[@]})) || stages=(meshes pile shear slide bed blade bucket post)
+for s in "${stages[@]}"; do
+  "stage_$s"
+done
+wait_ok
+echo "dem_reference: done"
