@@ -14,6 +14,8 @@ import math
 import os
 import sys
 
+from dem_io import read_dump
+
 V, DIG = 0.2, math.radians(15.0)
 CURL, TCURL = 70.0, 0.7
 W, L, H = 0.12, 0.08, 0.08
@@ -58,24 +60,13 @@ def main():
     # payload from the final dump, in the bucket's frame (hinge, curl angle of the end state)
     name, ts, xh, zh = phases[-1]
     th = math.radians(-CURL)
-    cols, inside, total_m = None, 0.0, 0.0
-    with open(os.path.join(raw, "bucket_final.dump")) as f:
-        atoms = False
-        for line in f:
-            if line.startswith("ITEM: ATOMS"):
-                cols = line.split()[2:]
-                atoms = True
-                continue
-            if line.startswith("ITEM:"):
-                atoms = False
-                continue
-            if atoms:
-                a = dict(zip(cols, (float(v) for v in line.split())))
-                dx, dz = a["x"] - xh, a["z"] - zh
-                xb = math.cos(th) * dx - math.sin(th) * dz
-                zb = math.sin(th) * dx + math.cos(th) * dz
-                if 0 < xb < L and abs(a["y"]) < W / 2 and -H < zb < 0:
-                    inside += a["mass"]
+    inside = 0.0
+    for a in read_dump(os.path.join(raw, "bucket_final.dump")):
+        dx, dz = a["x"] - xh, a["z"] - zh
+        xb = math.cos(th) * dx - math.sin(th) * dz
+        zb = math.sin(th) * dx + math.cos(th) * dz
+        if 0 < xb < L and abs(a["y"]) < W / 2 and -H < zb < 0:
+            inside += a["mass"]
     carried = rows[-1][4]
     vol = W * L * H
     summ = ["quantity,value,unit"]

@@ -14,31 +14,7 @@ that every bin holds a surface grain); their mean and spread are reported.
 import math
 import sys
 
-
-def read_dump(path):
-    rows, cols, in_atoms = [], None, False
-    with open(path) as f:
-        for line in f:
-            if line.startswith("ITEM: ATOMS"):
-                cols = line.split()[2:]
-                in_atoms = True
-                continue
-            if line.startswith("ITEM:"):
-                in_atoms = False
-                continue
-            if in_atoms:
-                v = line.split()
-                rows.append({c: float(x) for c, x in zip(cols, v)})
-    return rows
-
-
-def fit(points):
-    n = len(points)
-    mx = sum(p[0] for p in points) / n
-    my = sum(p[1] for p in points) / n
-    sxx = sum((p[0] - mx) ** 2 for p in points)
-    sxy = sum((p[0] - mx) * (p[1] - my) for p in points)
-    return sxy / sxx, my - sxy / sxx * mx
+from dem_io import line_fit, read_dump
 
 
 def profile(grains, cx, cy, nb=30, dr=0.005, sector=None, nsec=8):
@@ -64,7 +40,7 @@ def angle(prof, lo=0.2, hi=0.8):
     pts = [(r, z) for r, z in prof if lo * H <= z <= hi * H]
     if len(pts) < 3:
         return float("nan"), H, len(pts)
-    slope, _ = fit(pts)
+    slope, _ = line_fit(pts)
     return math.degrees(math.atan(-slope)), H, len(pts)
 
 

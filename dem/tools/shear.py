@@ -17,6 +17,8 @@ import os
 import re
 import sys
 
+from dem_io import line_fit
+
 A = 0.15 * 0.15
 
 
@@ -29,16 +31,6 @@ def read(path):
             v = [float(x) for x in line.split()]
             rows.append(v)
     return rows
-
-
-def lsq(pts):
-    n = len(pts)
-    mx = sum(p[0] for p in pts) / n
-    my = sum(p[1] for p in pts) / n
-    sxx = sum((p[0] - mx) ** 2 for p in pts)
-    sxy = sum((p[0] - mx) * (p[1] - my) for p in pts)
-    b = sxy / sxx
-    return my - b * mx, b
 
 
 def main():
@@ -69,9 +61,9 @@ def main():
                 ser.append(f"{sn:.0f},{d:.5f},{t:.1f},{s:.1f}")
                 last = d
     tests.sort()
-    cp, bp = lsq([(t[1], t[2]) for t in tests])
-    cr, br = lsq([(t[5], t[3]) for t in tests])
-    cl, bl = lsq([(t[6], t[2]) for t in tests])
+    bp, cp = line_fit([(t[1], t[2]) for t in tests])
+    br, cr = line_fit([(t[5], t[3]) for t in tests])
+    bl, cl = line_fit([(t[6], t[2]) for t in tests])
     b0 = sum(t[1] * t[2] for t in tests) / sum(t[1] ** 2 for t in tests)  # c = 0 fit
     with open(out, "w") as f:
         f.write("sn_target_Pa,normal_stress_at_peak_Pa,peak_shear_stress_Pa,peak_displacement_m,"

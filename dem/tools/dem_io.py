@@ -1,0 +1,30 @@
+"""Shared by the post-processing scripts: reading LIGGGHTS text dumps and a
+least-squares line (Python 3, stdlib only)."""
+
+
+def read_dump(path):
+    """The atoms of a LIGGGHTS text dump (every snapshot in it), as dicts
+    keyed by the dump's column names."""
+    rows, cols, in_atoms = [], None, False
+    with open(path) as f:
+        for line in f:
+            if line.startswith("ITEM: ATOMS"):
+                cols = line.split()[2:]
+                in_atoms = True
+                continue
+            if line.startswith("ITEM:"):
+                in_atoms = False
+                continue
+            if in_atoms:
+                rows.append({c: float(x) for c, x in zip(cols, line.split())})
+    return rows
+
+
+def line_fit(points):
+    """Least-squares line through (x, y) points: (slope, intercept)."""
+    n = len(points)
+    mx = sum(p[0] for p in points) / n
+    my = sum(p[1] for p in points) / n
+    sxx = sum((p[0] - mx) ** 2 for p in points)
+    sxy = sum((p[0] - mx) * (p[1] - my) for p in points)
+    return sxy / sxx, my - sxy / sxx * mx
