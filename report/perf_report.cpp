@@ -27,12 +27,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-json read_summary(const fs::path& dir) {
-  std::ifstream in(dir / "summary.json");
-  if (!in) throw std::runtime_error("performance report: no summary in " + dir.string());
-  return json::parse(in);
-}
-
 }  // namespace
 
 // The repose cone: 600 kg poured at a point on a 6 m yard settles to a cone
@@ -162,6 +156,7 @@ int write_perf_report(const PerfReportJob& job) {
   const std::vector<std::pair<const char*, Section>> families = {
       {"repose cone", perf::repose_cone_section},
       {"blade push", perf::blade_push_section},
+      {"digging forces against the DEM", perf::digging_dem_section},
       {"BCRE diffusion", perf::bcre_section},
       {"pressure under a pile", perf::pile_load_section},
       {"plate sinkage", perf::plate_sinkage_section},

@@ -3,9 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace skidsim::report::perf {
+
+nlohmann::json read_summary(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  if (!in) throw std::runtime_error("performance report: no summary in " + dir.string());
+  return nlohmann::json::parse(in);
+}
 
 std::string fmt(const char* format, double v) {
   char buf[64];

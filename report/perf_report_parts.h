@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -94,6 +95,9 @@ class LadderBudget {
   bool stopped_ = false;
 };
 
+// A job's summary.json in `dir`; throws naming the folder when it is missing.
+nlohmann::json read_summary(const std::filesystem::path& dir);
+
 // Wall-clock seconds since `start`.
 double seconds_since(std::chrono::steady_clock::time_point start);
 
@@ -118,6 +122,7 @@ ReportSection wheel_sinkage_section(const ReportContext& ctx);    // perf_ladder
 ReportSection thesis_tables_section(const ReportContext& ctx);    // perf_thesis_tables.cpp (tables 7.1, 7.4, 7.5)
 ReportSection sessions_section(const ReportContext& ctx);         // perf_sessions.cpp (whole sessions; table 9.3)
 ReportSection level_of_detail_section(const ReportContext& ctx);  // perf_level_of_detail.cpp (a big site at rest)
+ReportSection digging_dem_section(const ReportContext& ctx);      // perf_digging.cpp (blades against the DEM reference)
 ReportSection ground_models_section(const ReportContext& ctx);    // perf_ground_models.cpp (automaton vs slippage)
 
 }  // namespace skidsim::report::perf

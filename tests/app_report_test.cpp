@@ -116,6 +116,19 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
       EXPECT_EQ(count(read(dir / svg), "<circle"), 2u) << svg << ": a point per rung";
     }
   }
+  // The digging forces against the stored DEM runs (dem/blade/results): a
+  // row per DEM case (one in a quick run) with the DEM's N, the equation's
+  // and skidsim's measured mean, and a point per push on the plot.
+  {
+    const std::string s = section(md, "## Digging forces against the DEM reference");
+    ASSERT_FALSE(s.empty());
+    const auto rows = table_rows(s);
+    ASSERT_EQ(rows.size(), 1u);
+    ASSERT_GE(rows[0].size(), 4u);
+    EXPECT_TRUE(finite_number(rows[0][2])) << "equation '" << rows[0][2] << "'";
+    EXPECT_GT(std::strtod(rows[0][3].c_str(), nullptr), 0.0) << "skidsim's mean '" << rows[0][3] << "'";
+    EXPECT_EQ(count(read(dir / "perf_digging_dem.svg"), "<circle"), 1u);
+  }
   // The numbers are measured: the coarse cone's flank is off alpha_I by what
   // the run found, the plate sinks to Bekker's depth within 2 %.
   EXPECT_NE(md.find("flank 30."), std::string::npos);

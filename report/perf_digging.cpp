@@ -1,0 +1,144 @@
+// Digging forces against the DEM reference (dem/, scripts/dem_reference.sh):
+// the lab-scale LIGGGHTS blade runs in dimensionless form, N = F / (gamma
+// d^2 w) at the same d/w, rake and travel over d, beside the earthmoving
+// equation and skidsim's push (the calibrated `dem_sand`, a 1 m blade) at
+// two cell sizes, with the cost of each push.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/physical_constants.h"
+#include "io/soil_table.h"
+#include "jobs/push_job.h"
+#include "report/perf_report_parts.h"
+
+namespace skidsim::report::perf {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct DemBlade {
+  double rake_deg = 0.0, depth_m = 0.0, width_m = 0.0, density_kg_m3 = 0.0;
+  double n_peak = 0.0, n_mean = 0.0, mean_from_m = 0.0, travel_m = 0.0;
+};
+
+// dem/blade/results/summary.csv, by its header's column names.
+std::vector<DemBlade> read_dem_blades(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("performance report: no DEM blade summary at " + path.string());
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
+  const auto column = [&](const std::string& name) {
+    for (std::size_t k = 0; k < header.size(); ++k)
+      if (header[k] == name) return k;
+    throw std::runtime_error("performance report: " + path.string() + " has no column '" + name + "'");
+  };
+  const std::size_t rake = column("rake_deg"), depth = column("depth_m"), width = column("width_m"),
+                    density = column("bulk_density_kg_m3"), peak = column("N_peak"), mean = column("N_mean"),
+                    from = column("mean_window_from_m"), travel = column("travel_m");
+  std::vector<DemBlade> out;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::vector<double> v;
+    for (std::stringstream ss(line); std::getline(ss, line, ',');) v.push_back(std::stod(line));
+    if (v.size() < header.size()) throw std::runtime_error("performance report: short row in " + path.string());
+    out.push_back({v[rake], v[depth], v[width], v[density], v[peak], v[mean], v[from], v[travel]});
+  }
+  return out;
+}
+
+struct PushResult {
+  double n_start = 0.0, n_mean = 0.0, cost = 0.0;
+};
+
+// skidsim's push of a 1 m blade at the DEM case's d/w and rake, over the same
+// travel over d; N's mean over the DEM's window (from the same travel over d).
+PushResult push_like(const DemBlade& dem, double cells_per_m, const fs::path& work) {
+  const double scale = 1.0 / dem.width_m;  // a 1 m blade
+  jobs::PushJob p;
+  p.soil_id = "dem_sand";
+  p.cutting_model = "earthmoving";
+  p.cells_per_m = cells_per_m;
+  p.width_m = 1.0;
+  p.depth_m = dem.depth_m * scale;
+  p.layer_m = 2.0 * p.depth_m + 0.4;
+  p.rake_deg = dem.rake_deg;
+  p.distance_m = dem.travel_m * scale;
+  p.out_dir = work.string();
+  if (jobs::run_push_job(p) != 0) throw std::runtime_error("performance report: the DEM-scale push failed");
+  const nlohmann::json s = read_summary(work);
+  const double gamma_d2_w = s["soil"]["bulk_density_kg_m3"].get<double>() * kGravity_m_s2 * p.depth_m * p.depth_m;
+  std::ifstream csv(work / "resistance.csv");
+  std::string line;
+  std::getline(csv, line);
+  double sum = 0.0;
+  int n = 0;
+  while (std::getline(csv, line)) {
+    const double x = std::stod(line.substr(0, line.find(',')));
+    const double f = std::stod(line.substr(line.find(',') + 1));
+    if (x >= dem.mean_from_m * scale - 1e-9) sum += f, ++n;
+  }
+  PushResult r;
+  r.n_start = s["result"]["resistance_at_start_N"].get<double>() / gamma_d2_w;
+  r.n_mean = n > 0 ? sum / n / gamma_d2_w : 0.0;
+  r.cost = s["performance"]["us_per_step"].get<double>() * 1e-6 / 0.002;
+  return r;
+}
+
+}  // namespace
+
+ReportSection digging_dem_section(const ReportContext& ctx) {
+  const fs::path root = fs::path(io::default_assets_dir()).parent_path();
+  std::vector<DemBlade> cases = read_dem_blades(root / "dem" / "blade" / "results" / "summary.csv");
+  if (ctx.quick && cases.size() > 1) cases.resize(1);
+  const std::vector<double> rungs = ctx.quick ? std::vector<double>{10} : std::vector<double>{10, 20};
+  std::vector<Rung> points;
+  std::string rows;
+  for (const DemBlade& dem : cases) {
+    std::string cells_columns;
+    double equation = 0.0;
+    for (const double cells : rungs) {
+      const PushResult r = push_like(dem, cells, ctx.work_dir / ("dig_dem_" + fmt("%g", cells)));
+      equation = r.n_start;  // the start on flat ground is the equation (asserted in jobs_tests)
+      const double error = 100.0 * std::abs(r.n_mean - dem.n_mean) / dem.n_mean;
+      cells_columns += " " + fmt("%.1f", r.n_mean) + " (" + fmt("%+.0f %%", 100.0 * (r.n_mean - dem.n_mean) / dem.n_mean) +
+                       ", " + fmt("%.3f", r.cost) + ") |";
+      points.push_back({fmt("%g deg", dem.rake_deg) + fmt(" d/w %.1f ", dem.depth_m / dem.width_m) + fmt("%g/m", cells),
+                        r.cost, error, ""});
+    }
+    rows += "| " + fmt("%g deg", dem.rake_deg) + ", " + fmt("%.2f", dem.depth_m / dem.width_m) + " | " +
+            fmt("%.1f", dem.n_peak) + " / " + fmt("%.1f", dem.n_mean) + " | " + fmt("%.1f", equation) + " |" +
+            cells_columns + "\n";
+  }
+  ReportSection out;
+  const std::string svg = ctx.svg_name("digging_dem");
+  out.svgs.emplace_back(svg, svg_plot("Blade against the DEM: mean resistance", "error against the DEM's mean (%)", points,
+                                      "cost: wall s per simulated s (one core)"));
+  std::string header = "| rake, d/w | DEM N peak / mean | equation N |";
+  std::string rule = "|---|---|---|";
+  for (const double cells : rungs) {
+    header += " skidsim N mean, " + fmt("%g cells/m", cells) + " (vs DEM, cost) |";
+    rule += "---|";
+  }
+  out.markdown =
+      "## Digging forces against the DEM reference\n\n"
+      "The LIGGGHTS blade runs of `dem/` (8 mm grains, calibrated first: repose 34.6 deg, phi 38.9 deg, "
+      "delta 19.3 deg, 1532 kg/m^3; `dem/README.md`) against skidsim pushing a 1 m blade through the calibrated "
+      "`dem_sand` at the same d/w, rake and travel over d, in N = F / (gamma d^2 w); the mean from 2 d of travel "
+      "to the end, as the DEM's. The equation is McKyes-Ali's on flat ground, skidsim's start of push.\n\n" +
+      header + "\n" + rule + "\n" + rows + "\n![error against the DEM against cost](" + svg +
+      ")\n\nReading it: the equation sits near the DEM at a vertical blade 0.4 as deep as wide and above it deeper; "
+      "it gives a raked face far less than the DEM does; and along the push skidsim's heap, taken as surcharge, "
+      "lifts the mean two to three times past the DEM's (docs/soil_contact.md says why). The 15 % the "
+      "earthmoving issue asks for is not reached yet; the equation is the soil table's choice only for "
+      "`dem_sand` until it is.\n\n";
+  return out;
+}
+
+}  // namespace skidsim::report::perf
