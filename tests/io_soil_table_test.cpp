@@ -28,9 +28,11 @@ TEST(SoilTable, ShippedTableLoadsAndIsValid) {
   EXPECT_DOUBLE_EQ(sand.terramechanics.tool_friction_angle_deg, 19.0);
   EXPECT_EQ(table.at("gravel").terramechanics.model, terrain::VerticalLoadModel::kIncompressible);
   // The cutting model: the thesis's wedge unless a soil selects the
-  // equation, as the DEM reference's material does.
+  // equation, as the DEM reference's material and the clays do.
   EXPECT_EQ(sand.terramechanics.cutting, terrain::CuttingModel::kThesisWedge);
   EXPECT_EQ(table.at("dem_sand").terramechanics.cutting, terrain::CuttingModel::kEarthmoving);
+  for (const char* clay : {"clayey_soil_38", "heavy_clay_25"})
+    EXPECT_EQ(table.at(clay).terramechanics.cutting, terrain::CuttingModel::kEarthmoving) << clay;
   EXPECT_DOUBLE_EQ(table.at("dem_sand").terramechanics.cohesion_kPa, 0.0);
 }
 
