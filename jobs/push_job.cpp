@@ -103,12 +103,7 @@ int run_push_job(const PushJob& job) {
       terrain::flat_ground_wedge(phi, soil.flow.bulk_density_kg_m3, job.depth_m, job.width_m);
   // The earthmoving equation on flat ground (McKyes and Ali), evaluated
   // from the soil table's parameters.
-  terrain::CuttingSoil cutting;
-  cutting.unit_weight_N_per_m3 = soil.flow.bulk_density_kg_m3 * kGravity_m_s2;
-  cutting.cohesion_Pa = 1000.0 * soil.terramechanics.cohesion_kPa;
-  cutting.friction_angle_rad = phi;
-  cutting.tool_adhesion_Pa = 1000.0 * soil.terramechanics.tool_adhesion_kPa;
-  cutting.tool_friction_angle_rad = deg_to_rad(soil.terramechanics.tool_friction_angle_deg);
+  const terrain::CuttingSoil cutting = terrain::cutting_soil(soil.terramechanics, soil.flow.bulk_density_kg_m3);
   terrain::CuttingTool tool;
   tool.depth_m = job.depth_m;
   tool.width_m = job.width_m;

@@ -13,8 +13,6 @@ namespace {
 constexpr double kFullyCovered = 1.0 - 1e-9;
 constexpr int kMaxBodyId = 65535;
 
-double radians(double deg) { return deg * kPi / 180.0; }
-
 // Speed of a point along face direction f (+x, -x, +y, -y).
 double along(const Eigen::Vector3d& v, int f) {
   return f == 0 ? v.x() : f == 1 ? -v.x() : f == 2 ? v.y() : -v.y();
@@ -37,13 +35,11 @@ int SoilContactModel::add_soil(const SoilMechanics& soil) {
   if (regions_.size() >= 256) throw std::invalid_argument("SoilContactModel::add_soil: at most 256 soils");
   SoilRegion r;
   r.soil = soil;
-  r.phi_rad = radians(soil.friction_angle_deg);
-  r.tan_tool_friction = std::tan(radians(soil.tool_friction_angle_deg));
+  r.phi_rad = deg_to_rad(soil.friction_angle_deg);
+  r.tan_tool_friction = std::tan(deg_to_rad(soil.tool_friction_angle_deg));
   r.rho_table = WedgeAngleTable(r.phi_rad);
-  r.cutting.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
-  r.cutting.friction_angle_rad = r.phi_rad;
-  r.cutting.tool_adhesion_Pa = 1000.0 * soil.tool_adhesion_kPa;
-  r.cutting.tool_friction_angle_rad = radians(soil.tool_friction_angle_deg);
+  // The wedge's soil weighs as the grid's (wedge_reactions' gamma g).
+  r.cutting = cutting_soil(soil, grid_.soil().bulk_density_kg_m3);
   regions_.push_back(r);
   return static_cast<int>(regions_.size()) - 1;
 }
@@ -424,8 +420,7 @@ void SoilContactModel::wedge_reactions(const BodyState& state, const ContactMap&
     w.depth_m = depth_width / width;
     const bool thesis = region.soil.cutting == CuttingModel::kThesisWedge;
     w.rake_rad = thesis ? 0.5 * kPi : tool_rake_rad(state, f);
-    CuttingSoil cutting = region.cutting;
-    cutting.unit_weight_N_per_m3 = gamma_g;
+    const CuttingSoil& cutting = region.cutting;
     CuttingTool tool;
     tool.depth_m = w.depth_m;
     tool.width_m = width;

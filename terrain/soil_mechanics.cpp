@@ -52,6 +52,16 @@ double minimising_rho(double phi, double depth_over_width) {
 
 }  // namespace
 
+CuttingSoil cutting_soil(const SoilMechanics& soil, double bulk_density_kg_m3) {
+  CuttingSoil c;
+  c.unit_weight_N_per_m3 = bulk_density_kg_m3 * kGravity_m_s2;
+  c.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
+  c.friction_angle_rad = deg_to_rad(soil.friction_angle_deg);
+  c.tool_adhesion_Pa = 1000.0 * soil.tool_adhesion_kPa;
+  c.tool_friction_angle_rad = deg_to_rad(soil.tool_friction_angle_deg);
+  return c;
+}
+
 void validate(const SoilMechanics& s) {
   require(std::isfinite(s.n) && s.n > 0.0 && s.n <= 3.0, "n", s.n, "in (0, 3]");
   require(std::isfinite(s.k_c_kN_per_m_n1) && s.k_c_kN_per_m_n1 >= 0.0, "k_c", s.k_c_kN_per_m_n1, ">= 0");

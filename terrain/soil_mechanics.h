@@ -6,6 +6,7 @@
 #pragma once
 
 #include "common/physical_constants.h"
+#include "terrain/earthmoving.h"
 #include <array>
 #include <string>
 
@@ -58,6 +59,10 @@ struct SoilMechanics {
 
 // Throws std::invalid_argument naming the field when a value is out of range.
 void validate(const SoilMechanics& soil);
+
+// The earthmoving equation's soil (terrain/earthmoving.h) from this one, in
+// SI units, for a bulk density (kg/m^3).
+CuttingSoil cutting_soil(const SoilMechanics& soil, double bulk_density_kg_m3);
 
 using skidsim::kGravity_m_s2;  // common/physical_constants.h: one gravity for the project
 
