@@ -1,5 +1,6 @@
 #include "engine/world.h"
 #include "common/physical_constants.h"
+#include "terrain/edge_penetration.h"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
@@ -300,6 +301,57 @@ void World::material_on_bucket() {
   pose_bucket_material(bucket_, pose, loader_->link_centre_of_mass(bucket_.link), v, w);
 }
 
+void World::slicing_edge_shares(const Eigen::Isometry3d& pose, const Eigen::Vector2d& forward,
+                                const terrain::BodyReaction& r, double share[4]) {
+  // The edge meets what its tip bears on, and the load already in must make
+  // room for what comes in: the larger of the edge's share of the wedge and
+  // the fill (struck full pushes like a blade). The tip: in the earthmoving
+  // soils, the bearing capacity of its blunt face (terrain/edge_penetration.h)
+  // at the soil standing over it one cell ahead, cell by cell across its
+  // width, never more than the blade's wedge; in the thesis's, a fixed share
+  // of the wedge (Zelenin's thin edge against bulldozing).
+  const vehicle::BucketInterior& in = loader_->description().bucket_interior;
+  const double cell = grid_->cell_size_m();
+  const Eigen::Vector3d a = pose * (in.origin_m + Eigen::Vector3d(in.length_m, 0.0, 0.0));
+  const Eigen::Vector3d b = pose * (in.origin_m + Eigen::Vector3d(in.length_m, in.width_m, 0.0));
+  const double speed = forward.norm();
+  const Eigen::Vector2d ahead = speed > 0.0 ? Eigen::Vector2d(forward * (cell / speed)) : Eigen::Vector2d::Zero();
+  const int strips = std::max(1, static_cast<int>(std::ceil(in.width_m / cell)));
+  double edge_N = 0.0;
+  int bearing_strips = 0, thesis_strips = 0;
+  for (int k = 0; k < strips; ++k) {
+    const Eigen::Vector3d p = a + (b - a) * ((k + 0.5) / strips);
+    const Eigen::Vector2i c = cell_under(p.x() + ahead.x(), p.y() + ahead.y());
+    if (!grid_->contains(c.x(), c.y())) continue;
+    const int n = grid_->index(c.x(), c.y());
+    terrain::EdgeInSoil edge;
+    edge.thickness_m = in.cutting_edge_thickness_m;
+    edge.width_m = in.width_m / strips;
+    edge.overburden_m = grid_->surface_at(n) - p.z();
+    if (!(edge.overburden_m > 0.0)) continue;
+    const terrain::SoilMechanics& soil = soil_->soil_at_cell(n);
+    if (soil.cutting != terrain::CuttingModel::kEarthmoving) {
+      ++thesis_strips;
+      continue;
+    }
+    ++bearing_strips;
+    edge_N += terrain::edge_penetration(terrain::cutting_soil(soil, grid_->soil().bulk_density_kg_m3), edge).force_N;
+  }
+  if (bearing_strips > thesis_strips) edge_penetration_N_ = edge_N;
+  const double fill = bucket_fill_fraction();
+  for (int f = 0; f < terrain::kFaceCount; ++f) {
+    if (!terrain::face_ahead(f, forward.x(), forward.y(), speed)) continue;
+    double edge_share = in.edge_resistance;
+    if (bearing_strips > thesis_strips) {
+      // The edge's force along this face's axis, against the wedge's bound.
+      const double along = std::abs(f < 2 ? forward.x() : forward.y()) / speed;
+      const double bound = r.wedge[static_cast<size_t>(f)].bound_N;
+      edge_share = bound > 0.0 ? std::min(1.0, edge_N * along / bound) : 0.0;
+    }
+    share[f] = std::max(edge_share, fill);
+  }
+}
+
 Eigen::Vector2i World::cell_under(double x_m, double y_m) const {
   // Clamped in double to one cell beyond the grid either side: a point far
   // off it must not overflow an int, and callers can still tell it is off.
@@ -378,6 +430,7 @@ void World::soil_on_machine() {
     s.shear.shear_modulus_K_m = soil.shear_modulus_K_m;
     s.shear.contact_length_m = r.contact_area_m2 / d.tyre.width_m;
   }
+  edge_penetration_N_ = 0.0;
   for (size_t k = 0; k < link_boxes_.size(); ++k) {
     LinkBox& lb = link_boxes_[k];
     const Eigen::Isometry3d pose = loader_->link_pose(lb.link);
@@ -413,11 +466,7 @@ void World::soil_on_machine() {
     // room for: the wedge limit ahead scaled from `edge_resistance` (empty)
     // to 1 (struck full, pushing like a blade). Other ways it is a blade.
     double wedge_scale[4] = {1.0, 1.0, 1.0, 1.0};
-    if (slicing) {
-      const double cut = std::max(d.bucket_interior.edge_resistance, bucket_fill_fraction());
-      for (int f = 0; f < terrain::kFaceCount; ++f)
-        if (terrain::face_ahead(f, forward.x(), forward.y(), forward.norm())) wedge_scale[f] = cut;
-    }
+    if (slicing) slicing_edge_shares(pose, forward, r, wedge_scale);
     resistance.set(r, wedge_scale, motion.velocity_at(r.shear_point_m).head<2>(), kStepSeconds);
   }
 }

@@ -104,6 +104,9 @@ class World {
   // a point on its (vertical) line of action.
   double bucket_load_N() const { return bucket_.weight_N; }
   Eigen::Vector3d bucket_load_point_m() const { return bucket_.load_point_world_m(); }
+  // What the bucket's slicing edge bore on this step in an earthmoving soil
+  // (N, terrain/edge_penetration.h; 0 when not slicing into one).
+  double edge_penetration_N() const { return edge_penetration_N_; }
 
   // Stability events, first time seen (-1: not yet): the rear wheels lose
   // all load (the machine is tipping forward), the chassis leans past 45 deg.
@@ -150,6 +153,11 @@ class World {
   void build_material(std::unique_ptr<terrain::BodyAutomaton> bucket);
   void material_on_bucket();  // poses the bucket's automaton from the link
   double bucket_fill_fraction() const;  // its material over the struck volume, at most 1
+  double edge_penetration_N_ = 0.0;     // this step's, for edge_penetration_N()
+  // The share of the forward wedge (+x, -x, +y, -y) the slicing edge of a
+  // bucket posed at `pose`, moving along `forward`, meets (docs/material.md).
+  void slicing_edge_shares(const Eigen::Isometry3d& pose, const Eigen::Vector2d& forward,
+                           const terrain::BodyReaction& r, double share[4]);
   // One body against the soil: its reaction, or a release when it left the grid.
   terrain::BodyReaction soil_on_body(int body_id, const terrain::BodyGeometry& shape, const terrain::BodyMotion& motion,
                                      double highest_soil_m, bool wedge_bounds);

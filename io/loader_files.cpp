@@ -403,7 +403,9 @@ void read_bucket_interior(LoaderDescription& d, const std::string& path, const t
       in.heel_radius_m = a.number_in("heel_radius_m", 0.0, 5.0);
       in.plate_thickness_m = a.number_in("plate_thickness_m", 0.005, 0.5);
       in.cutting_edge_length_m = a.number_in("cutting_edge_length_m", 0.01, 10.0);
-      in.bottom_clearance_rad = a.number_in("bottom_clearance_deg", 0.0, 45.0) * kPi / 180.0;
+      in.bottom_clearance_rad = deg_to_rad(a.number_in("bottom_clearance_deg", 0.0, 45.0));
+      in.cutting_edge_thickness_m =
+          a.number_in_or("cutting_edge_thickness_m", 0.001, 0.2, in.cutting_edge_thickness_m);
       a.reject_unknown();
       a.reject_content();
       if (in.heel_radius_m > in.back_height_m) a.fail("heel_radius_m must not exceed back_height_m");

@@ -253,7 +253,7 @@ int run_dig_job(const DigJob& job) {
   phases_csv << "phase,start_s,end_s,bucket_kg,truck_kg,chassis_x_m,chassis_y_m,heading_deg\n";
   Operator op;
   Phase last = op.phase;
-  double last_start = 0.0, bucket_full_kg = 0.0, carried_kg = 0.0;
+  double last_start = 0.0, bucket_full_kg = 0.0, carried_kg = 0.0, peak_edge_N = 0.0;
   const double limit_s = 60.0;
   Progress progress("dig", limit_s);
   long steps = 0;
@@ -261,6 +261,7 @@ int run_dig_job(const DigJob& job) {
     jobs::stop_if_interrupted("dig");
     world.step(operate(op, world, heaped_kg));
     ++steps;
+    peak_edge_N = std::max(peak_edge_N, world.edge_penetration_N());
     if (ex.total_quanta() != total) conserved = false;
     if (op.phase != last) {
       const Eigen::Vector3d x = world.loader().link_pose(0).translation();
@@ -297,6 +298,8 @@ int run_dig_job(const DigJob& job) {
         {"timed_out_phases", op.timed_out},
         {"sliced_kg", st.quanta_sliced * q},
         {"bucket_full_kg", bucket_full_kg},
+        // The slicing edge's bearing in an earthmoving soil (0 in the thesis's).
+        {"peak_edge_penetration_N", peak_edge_N},
         {"bucket_at_truck_kg", carried_kg},
         {"truck_kg", truck_kg},
         {"left_in_bucket_kg", world.bucket_material()->material_mass_kg()},

@@ -143,10 +143,15 @@ struct BucketInterior {
   double plate_thickness_m = 0.04;   // floor and back plates, for their contact with the soil
   double cutting_edge_length_m = 0.25;  // the strip of floor behind the edge that rides the cut
   double bottom_clearance_rad = 0.14;   // its bottom's rise towards the heel
+  // The edge's blunt face across its travel, which bears on the soil ahead
+  // (terrain/edge_penetration.h): a worn bolt-on edge's tip.
+  double cutting_edge_thickness_m = 0.02;
   // Filling (6.4.2): the mouth chokes (the edge pushes instead of slicing)
   // once the bucket holds its heaped capacity; the repose angle on the
-  // bucket drops while material slides in; an empty bucket's slicing edge
-  // meets this share of the blade's wedge, a full one all of it.
+  // bucket drops while material slides in; in a soil cut by the thesis's
+  // wedge an empty bucket's slicing edge meets this share of the blade's
+  // wedge, a full one all of it (the earthmoving soils bear on the edge
+  // instead: cutting_edge_thickness_m).
   double heaped_volume_m3 = 0.38;
   double filling_angle_drop_deg = 8.0;
   double edge_resistance = 0.2;
