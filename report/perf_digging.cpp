@@ -135,8 +135,8 @@ ReportSection digging_dem_section(const ReportContext& ctx) {
       "jobs_tests).\n\n" +
       header + "\n" + rule + "\n" + rows + "\n![error against the DEM against cost](" + svg +
       ")\n\nReading it: the equation sits near the DEM at a vertical blade 0.4 as deep as wide and above it deeper; "
-      "it gives a raked face far less than the DEM does; and along the push skidsim's heap, taken as surcharge, "
-      "lifts the mean two to three times past the DEM's (docs/soil_contact.md says why). The 15 % the "
+      "it gives a raked face far less than the DEM does; and along the push skidsim's heap, taken as surcharge "
+      "on the central wedge, lifts the mean above the DEM's in every case (docs/soil_contact.md says why). The 15 % the "
       "earthmoving issue asks for is not reached yet; until it is, the soil table gives the equation only to "
       "`dem_sand` and the clays.\n\n";
   return out;

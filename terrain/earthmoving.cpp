@@ -36,7 +36,7 @@ bool factors(const CuttingSoil& soil, const CuttingTool& tool, double beta, Cutt
   out->crescent_angle_rad = tool.side_crescents ? rho : 0.0;
   out->n_gamma = r / (2.0 * d) * (1.0 + 2.0 * side / 3.0) / denominator;
   out->n_c = (1.0 + cot_beta * cot_beta_phi) * (1.0 + side) / denominator;
-  out->n_q = r / d * (1.0 + side) / denominator;
+  out->n_q = r / d * (1.0 + (tool.surcharge_on_crescents ? side : 0.0)) / denominator;
   out->n_a = (1.0 - cot_alpha * cot_beta_phi) / denominator;
   const double w = tool.width_m;
   const double gamma_part = w * soil.unit_weight_N_per_m3 * d * d * out->n_gamma;

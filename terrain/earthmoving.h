@@ -44,6 +44,10 @@ struct CuttingTool {
   double rake_rad = 0.0;    // alpha, in (0, pi): 90 deg vertical
   double surcharge_Pa = 0.0;  // q: the weight per area of soil heaped on the failure zone
   bool side_crescents = true;
+  // McKyes and Ali load the crescents with q too (a surcharge over the
+  // whole ground). A heap pushed up in front of the tool lies on the
+  // central wedge only: false leaves the crescents out of N_q.
+  bool surcharge_on_crescents = true;
 };
 
 struct CuttingForce {

@@ -462,6 +462,9 @@ void SoilContactModel::wedge_reactions(const BodyState& state, const ContactMap&
     const double length = flat.rupture_m > 0.0 ? flat.rupture_m : tool.depth_m;
     const double flat_weight = gamma_g * width * 0.5 * tool.depth_m * tool.depth_m / std::tan(w.rho_rad);
     tool.surcharge_Pa = std::max(0.0, w.weight_N - flat_weight) / (width * length);
+    // The heap was weighed in front of the interfaces, over their width: it
+    // loads the central wedge, not the crescents beside it.
+    tool.surcharge_on_crescents = false;
     w.surcharge_Pa = tool.surcharge_Pa;
     const CuttingForce force = mckyes_ali(cutting, tool);
     if (force.failure_angle_rad > 0.0) w.rho_rad = force.failure_angle_rad;
