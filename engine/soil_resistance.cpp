@@ -3,6 +3,8 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
+#include <algorithm>
+
 namespace skidsim::engine {
 
 SoilResistance::SoilResistance(btMultiBody* body, int bullet_link)
@@ -27,6 +29,7 @@ void SoilResistance::set(const terrain::BodyReaction& r, const double wedge_scal
     row.direction = btVector3(direction.x(), direction.y(), 0.0);
     row.lower = lower_N * dt_s;
     row.upper = upper_N * dt_s;
+    row.down_per_N = 0.0;
   };
   // Each wedge on its own side, at its own point, one way only: the wedge
   // ahead of a +x interface resists motion towards +x (a negative impulse
@@ -35,7 +38,10 @@ void SoilResistance::set(const terrain::BodyReaction& r, const double wedge_scal
                                            -Eigen::Vector2d::UnitY()};
   for (int f = 0; f < 4; ++f) {
     const terrain::WedgeReaction& w = r.wedge[static_cast<size_t>(f)];
-    if (w.bound_N > 0.0) add(w.point_m, kAxis[f], -wedge_scale[f] * w.bound_N, 0.0);
+    if (!(w.bound_N > 0.0)) continue;
+    const int before = rows_;
+    add(w.point_m, kAxis[f], -wedge_scale[f] * w.bound_N, 0.0);
+    if (rows_ > before && wedge_scale[f] == 1.0) row_[before].down_per_N = w.vertical_down_N / w.bound_N;
   }
   // Mohr-Coulomb: against the slip and across it (as Bullet's own friction
   // pairs its rows), each up to the bound.
@@ -46,6 +52,24 @@ void SoilResistance::set(const terrain::BodyReaction& r, const double wedge_scal
     add(r.shear_point_m, along, -r.shear_bound_N, r.shear_bound_N);
     add(r.shear_point_m, across, -r.shear_bound_N, r.shear_bound_N);
   }
+}
+
+int SoilResistance::vertical_forces(double dt_s, Eigen::Vector3d force_N[4], Eigen::Vector3d point_m[4],
+                                    double* reaction_sum_N) {
+  int n = 0;
+  *reaction_sum_N = 0.0;
+  for (int k = 0; k < rows_ && n < 4; ++k) {
+    const Row& row = row_[k];
+    if (row.down_per_N == 0.0) continue;
+    // The wedge rows' impulses are negative along their axis (they resist).
+    const double reaction_N = std::max(0.0, -getAppliedImpulse(k) / dt_s);
+    if (!(reaction_N > 0.0)) continue;
+    force_N[n] = Eigen::Vector3d(0.0, 0.0, -row.down_per_N * reaction_N);
+    point_m[n] = Eigen::Vector3d(row.point.x(), row.point.y(), row.point.z());
+    *reaction_sum_N += reaction_N;
+    ++n;
+  }
+  return n;
 }
 
 void SoilResistance::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,

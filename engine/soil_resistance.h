@@ -28,6 +28,12 @@ class SoilResistance : public btMultiBodyConstraint {
   // it). No rows: clear().
   void set(const terrain::BodyReaction& r, const double wedge_scale[4], const Eigen::Vector2d& slip, double dt_s);
   void clear() { rows_ = 0; }
+  // The vertical part of the soil's force on the faces that pushed in the
+  // last solve (terrain::WedgeReaction::vertical_down_N per newton of the
+  // bound, times the horizontal reaction the solver gave; only wedges met
+  // whole, wedge_scale 1): up to four forces (world frame) and their points.
+  // Returns how many; `reaction_N` gets the horizontal reactions they go with.
+  int vertical_forces(double dt_s, Eigen::Vector3d force_N[4], Eigen::Vector3d point_m[4], double* reaction_N);
 
   void finalizeMultiDof() override {}
   int getIslandIdA() const override;
@@ -40,6 +46,7 @@ class SoilResistance : public btMultiBodyConstraint {
   struct Row {
     btVector3 point, direction;
     double lower = 0.0, upper = 0.0;  // impulse along `direction`
+    double down_per_N = 0.0;          // vertical force down per newton of reaction (wedge rows)
   };
   static constexpr int kMaxRows = 6;  // a wedge each way, shear along and across the slip
   Row row_[kMaxRows];

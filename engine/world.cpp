@@ -431,6 +431,7 @@ void World::soil_on_machine() {
     s.shear.contact_length_m = r.contact_area_m2 / d.tyre.width_m;
   }
   edge_penetration_N_ = 0.0;
+  face_forces_ = {};
   for (size_t k = 0; k < link_boxes_.size(); ++k) {
     LinkBox& lb = link_boxes_[k];
     const Eigen::Isometry3d pose = loader_->link_pose(lb.link);
@@ -456,9 +457,21 @@ void World::soil_on_machine() {
       for (const terrain::SoilContactModel::SlicedCell& c : soil_->sliced(id))
         exchange_->add_sliced(bucket_.exchange_index, static_cast<int>(c.cell), c.quanta);
     SoilResistance& resistance = *resistances_[k];
+    // The earthmoving soils' force on a face is inclined at the soil-tool
+    // friction angle to its normal: its vertical part goes with the
+    // horizontal reaction the wedges gave last step (one step behind, as
+    // the solver gives that reaction only after the step).
+    Eigen::Vector3d vertical_N[4], vertical_at_m[4];
+    double reaction_N = 0.0;
+    const int verticals = resistance.vertical_forces(kStepSeconds, vertical_N, vertical_at_m, &reaction_N);
     resistance.clear();
     if (r.contact_cells == 0) continue;
     loader_->add_wrench(lb.link, r.force_N - r.base_force_N, r.torque_Nm - r.base_torque_Nm, lb.shape.centre_m);
+    for (int i = 0; i < verticals; ++i) {
+      loader_->add_force(lb.link, vertical_N[i], vertical_at_m[i]);
+      face_forces_.vertical_down_N -= vertical_N[i].z();
+    }
+    if (verticals > 0) face_forces_.horizontal_N += reaction_N;
     // The wedges and shear hold the link up to their bounds (a Bullet
     // constraint). A slicing edge meets no fracture wedge (6.4); what
     // resists it moving forward is the cutting itself and the load it

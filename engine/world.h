@@ -107,6 +107,13 @@ class World {
   // What the bucket's slicing edge bore on this step in an earthmoving soil
   // (N, terrain/edge_penetration.h; 0 when not slicing into one).
   double edge_penetration_N() const { return edge_penetration_N_; }
+  // The vertical part of the earthmoving soils' force on the machine's
+  // pushing faces applied this step (positive down), and the horizontal
+  // reactions it goes with (SoilResistance::vertical_forces).
+  struct FaceForces {
+    double vertical_down_N = 0.0, horizontal_N = 0.0;
+  };
+  const FaceForces& face_forces() const { return face_forces_; }
 
   // Stability events, first time seen (-1: not yet): the rear wheels lose
   // all load (the machine is tipping forward), the chassis leans past 45 deg.
@@ -154,6 +161,7 @@ class World {
   void material_on_bucket();  // poses the bucket's automaton from the link
   double bucket_fill_fraction() const;  // its material over the struck volume, at most 1
   double edge_penetration_N_ = 0.0;     // this step's, for edge_penetration_N()
+  FaceForces face_forces_;              // this step's, for face_forces()
   // The share of the forward wedge (+x, -x, +y, -y) the slicing edge of a
   // bucket posed at `pose`, moving along `forward`, meets (docs/material.md).
   void slicing_edge_shares(const Eigen::Isometry3d& pose, const Eigen::Vector2d& forward,

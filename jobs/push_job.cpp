@@ -113,7 +113,7 @@ int run_push_job(const PushJob& job) {
 
   StagedRunDirectory run_dir(job.out_dir, "push");
   std::ostringstream csv;
-  csv << "distance_m,resistance_N,wedge_weight_N,wedge_depth_m,displaced_m3,vertical_force_N\n";
+  csv << "distance_m,resistance_N,wedge_weight_N,wedge_depth_m,displaced_m3,vertical_force_N,face_vertical_down_N\n";
   csv << std::setprecision(9);
   const auto steps = static_cast<std::int64_t>(std::llround(job.distance_m / job.speed_m_s / job.step_dt_s));
   const auto record_every = std::max<std::int64_t>(1, std::llround(0.02 / job.speed_m_s / job.step_dt_s));
@@ -130,7 +130,8 @@ int run_push_job(const PushJob& job) {
     last_N = r.wedge[0].bound_N;
     if (k % record_every == 0 || k == steps) {
       csv << blade.centre_m.x() - x_start << "," << r.wedge[0].bound_N << "," << r.wedge[0].weight_N << ","
-          << r.wedge[0].depth_m << "," << displaced_m3 << "," << r.force_N.z() << "\n";
+          << r.wedge[0].depth_m << "," << displaced_m3 << "," << r.force_N.z() << "," << r.wedge[0].vertical_down_N
+          << "\n";
     }
     progress.update((k + 1) * job.step_dt_s, "resistance " + std::to_string(static_cast<long>(last_N)) + " N");
   }

@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 struct DemBlade {
   double rake_deg = 0.0, depth_m = 0.0, width_m = 0.0, density_kg_m3 = 0.0;
   double n_peak = 0.0, n_mean = 0.0, mean_from_m = 0.0, travel_m = 0.0;
+  double up_over_draft = 0.0;  // the mean vertical force (up) over the mean draft
 };
 
 // dem/blade/results/summary.csv, by its header's column names.
@@ -41,20 +42,22 @@ std::vector<DemBlade> read_dem_blades(const fs::path& path) {
   };
   const std::size_t rake = column("rake_deg"), depth = column("depth_m"), width = column("width_m"),
                     density = column("bulk_density_kg_m3"), peak = column("N_peak"), mean = column("N_mean"),
-                    from = column("mean_window_from_m"), travel = column("travel_m");
+                    from = column("mean_window_from_m"), travel = column("travel_m"),
+                    fx = column("mean_force_x_N"), fz = column("mean_force_z_N");
   std::vector<DemBlade> out;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
     std::vector<double> v;
     for (std::stringstream ss(line); std::getline(ss, line, ',');) v.push_back(std::stod(line));
     if (v.size() < header.size()) throw std::runtime_error("performance report: short row in " + path.string());
-    out.push_back({v[rake], v[depth], v[width], v[density], v[peak], v[mean], v[from], v[travel]});
+    out.push_back({v[rake], v[depth], v[width], v[density], v[peak], v[mean], v[from], v[travel], v[fz] / v[fx]});
   }
   return out;
 }
 
 struct PushResult {
   double n_equation = 0.0, n_mean = 0.0, cost = 0.0;
+  double up_over_draft_equation = 0.0, up_over_draft = 0.0;  // the face's vertical force (up) over the draft
 };
 
 // skidsim's push of a 1 m blade at the DEM case's d/w and rake, over the same
@@ -77,14 +80,19 @@ PushResult push_like(const DemBlade& dem, double cells_per_m, const fs::path& wo
   std::ifstream csv(work / "resistance.csv");
   std::string line;
   std::getline(csv, line);
-  double sum = 0.0;
+  // distance_m, resistance_N, ..., face_vertical_down_N (the last column)
+  double sum = 0.0, sum_down = 0.0;
   int n = 0;
   while (std::getline(csv, line)) {
-    const double x = std::stod(line.substr(0, line.find(',')));
-    const double f = std::stod(line.substr(line.find(',') + 1));
-    if (x >= dem.mean_from_m * scale - 1e-9) sum += f, ++n;
+    std::vector<double> v;
+    for (std::stringstream ss(line); std::getline(ss, line, ',');) v.push_back(std::stod(line));
+    if (v.size() < 7) throw std::runtime_error("performance report: short row in the push's resistance.csv");
+    if (v[0] >= dem.mean_from_m * scale - 1e-9) sum += v[1], sum_down += v[6], ++n;
   }
   PushResult r;
+  r.up_over_draft = sum > 0.0 ? -sum_down / sum : 0.0;
+  r.up_over_draft_equation = -s["reference"]["earthmoving_vertical_down_N"].get<double>() /
+                             s["reference"]["earthmoving_N"].get<double>();
   r.n_equation = s["reference"]["earthmoving_N_over_gamma_d2_w"].get<double>();
   r.n_mean = n > 0 ? sum / n / gamma_d2_w : 0.0;
   r.cost = s["performance"]["us_per_step"].get<double>() * 1e-6 / 0.002;
@@ -102,10 +110,12 @@ ReportSection digging_dem_section(const ReportContext& ctx) {
   std::string rows;
   for (const DemBlade& dem : cases) {
     std::string cells_columns;
-    double equation = 0.0;
+    double equation = 0.0, up_equation = 0.0, up_finest = 0.0;
     for (const double cells : rungs) {
       const PushResult r = push_like(dem, cells, ctx.work_dir / ("dig_dem_" + fmt("%g", cells)));
       equation = r.n_equation;
+      up_equation = r.up_over_draft_equation;
+      up_finest = r.up_over_draft;
       const double error = 100.0 * std::abs(r.n_mean - dem.n_mean) / dem.n_mean;
       cells_columns += " " + fmt("%.1f", r.n_mean) + " (" + fmt("%+.0f %%", 100.0 * (r.n_mean - dem.n_mean) / dem.n_mean) +
                        ", " + fmt("%.3f", r.cost) + ") |";
@@ -114,7 +124,8 @@ ReportSection digging_dem_section(const ReportContext& ctx) {
     }
     rows += "| " + fmt("%g deg", dem.rake_deg) + ", " + fmt("%.2f", dem.depth_m / dem.width_m) + " | " +
             fmt("%.1f", dem.n_peak) + " / " + fmt("%.1f", dem.n_mean) + " | " + fmt("%.1f", equation) + " |" +
-            cells_columns + "\n";
+            cells_columns + " " + fmt("%+.2f", dem.up_over_draft) + " / " + fmt("%+.2f", up_equation) + " / " +
+            fmt("%+.2f", up_finest) + " |\n";
   }
   ReportSection out;
   const std::string svg = ctx.svg_name("digging_dem");
@@ -126,13 +137,16 @@ ReportSection digging_dem_section(const ReportContext& ctx) {
     header += " skidsim N mean, " + fmt("%g cells/m", cells) + " (vs DEM, cost) |";
     rule += "---|";
   }
+  header += " V / H up: DEM / equation / skidsim " + fmt("%g cells/m", rungs.back()) + " |";
+  rule += "---|";
   out.markdown =
       "## Digging forces against the DEM reference\n\n"
       "The LIGGGHTS blade runs of `dem/` (8 mm grains, calibrated first: repose 34.6 deg, phi 38.9 deg, "
       "delta 19.3 deg, 1532 kg/m^3; `dem/README.md`) against skidsim pushing a 1 m blade through the calibrated "
       "`dem_sand` at the same d/w, rake and travel over d, in N = F / (gamma d^2 w); the mean from 2 d of travel "
       "to the end, as the DEM's. The equation is McKyes-Ali's on flat ground (skidsim's start of push meets it within 5 %, "
-      "jobs_tests).\n\n" +
+      "jobs_tests). V / H: the soil's vertical force on the blade (up positive) over the draft, the DEM's means, the "
+      "equation's on flat ground, and skidsim's along the push (the engine applies it with the horizontal reaction).\n\n" +
       header + "\n" + rule + "\n" + rows + "\n![error against the DEM against cost](" + svg +
       ")\n\nReading it: the equation sits near the DEM at a vertical blade 0.4 as deep as wide and above it deeper; "
       "it gives a raked face far less than the DEM does; and along the push skidsim's heap, taken as surcharge "

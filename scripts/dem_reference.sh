@@ -103,7 +103,8 @@ stage_blade() {
       throttle
       run_deck "blade_a${rake}_d${d}mm" "$b" blade.in -var rake "$rake" \
         -var depth "$(printf '0.%03d' "$d")" -var scratch "$(rel "$SCRATCH" "$b")" \
-        -var meshdir "$(rel "$MESHES" "$b")" -var out "$(rel "$SCRATCH/blade/blade_a${rake}_d${d}mm.txt" "$b")" &
+        -var meshdir "$(rel "$MESHES" "$b")" -var out "$(rel "$SCRATCH/blade/blade_a${rake}_d${d}mm.txt" "$b")" \
+        -var heap "$(rel "$SCRATCH/blade/heap_a${rake}_d${d}mm.dump" "$b")" &
     done
   done
 }
@@ -122,7 +123,7 @@ stage_wide() {
   throttle
   run_deck wide_blade_a90_d70mm "$b" blade.in -var yh 0.25 -var rake 90 -var depth 0.070 \
     -var scratch "$(rel "$w" "$b")" -var meshdir "$(rel "$MESHES" "$b")" \
-    -var out "$(rel "$w/blade_a90_d70mm.txt" "$b")" &
+    -var out "$(rel "$w/blade_a90_d70mm.txt" "$b")" -var heap "$(rel "$w/heap_a90_d70mm.dump" "$b")" &
 }
 
 stage_post() {
@@ -135,6 +136,7 @@ stage_post() {
   cp "$SCRATCH/bed.csv" "$cal/bed.csv"
   "$PY" "$DEM/tools/material_csv.py" "$cal" "$DEM/calibration/material.csv"
   "$PY" "$DEM/tools/blade_post.py" "$DEM/blade/results" "$DEM/calibration/material.csv" "$SCRATCH/blade"
+  "$PY" "$DEM/tools/heap.py" "$DEM/blade/results" "$DEM/calibration/material.csv" "$SCRATCH/blade"
   "$PY" "$DEM/tools/bucket_post.py" "$SCRATCH/bucket" "$DEM/bucket/results" "$DEM/calibration/material.csv"
   if [[ -f "$SCRATCH/wide/blade_a90_d70mm.txt" ]]; then
     "$PY" "$DEM/tools/blade_post.py" "$DEM/blade/results/wide_bin" "$DEM/calibration/material.csv" "$SCRATCH/wide"

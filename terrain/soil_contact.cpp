@@ -75,15 +75,17 @@ void SoilContactModel::set_tool_face(int body_id, const Eigen::Vector3d& outward
 double SoilContactModel::tool_rake_rad(const BodyState& state, int f) const {
   // The face's angle from the horizontal seen along direction f: its normal
   // leans ahead by atan2(n . D, n_z) from the vertical. McKyes-Ali's
-  // mechanism holds from a shallow rake to a vertical face; a face turned
-  // away from f, overhanging, or without a declared face pushes with the
+  // mechanism holds from a shallow rake to a vertical face; a face that does
+  // not face f (its horizontal normal more than ~73 deg from it, as for the
+  // faces a cutting edge meets: edge-on or turned away, it pushes nothing
+  // that way), an overhanging one, or no declared face pushes with the
   // vertical interface.
-  constexpr double kShallowestRake_rad = 10.0 * kPi / 180.0;
+  constexpr double kShallowestRake_rad = deg_to_rad(10.0);
   constexpr double kVertical_rad = 0.5 * kPi;
   if (!state.has_tool_face) return kVertical_rad;
   const Eigen::Vector3d& n = state.tool_face_normal;
   const double ahead = n.x() * kFaceStep[f][0] + n.y() * kFaceStep[f][1];
-  if (!(ahead > 0.0) || !(n.z() > 0.0)) return kVertical_rad;
+  if (!face_ahead(f, n.x(), n.y(), std::hypot(n.x(), n.y())) || !(n.z() > 0.0)) return kVertical_rad;
   return std::clamp(std::atan2(ahead, n.z()), kShallowestRake_rad, kVertical_rad);
 }
 
@@ -469,6 +471,7 @@ void SoilContactModel::wedge_reactions(const BodyState& state, const ContactMap&
     const CuttingForce force = mckyes_ali(cutting, tool);
     if (force.failure_angle_rad > 0.0) w.rho_rad = force.failure_angle_rad;
     w.bound_N = force.horizontal_N;
+    w.vertical_down_N = force.vertical_down_N;
   }
 }
 

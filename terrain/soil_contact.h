@@ -44,6 +44,12 @@ struct WedgeReaction {
   double rho_rad = 0.0;   // angle of the fracture plane from the horizontal (beta)
   double rake_rad = 0.0;  // the tool face's angle from the horizontal (90 deg: vertical)
   double surcharge_Pa = 0.0;  // soil heaped on the wedge beyond flat ground (earthmoving q)
+  // The earthmoving equation's vertical force on the face at the bound
+  // (positive down: the face pulled into the soil when alpha + delta < 90
+  // deg, pushed up past it); the soil's force is inclined at delta to the
+  // face's normal, so its vertical part follows the horizontal reaction.
+  // 0 for the thesis's wedge (a smooth face).
+  double vertical_down_N = 0.0;
 };
 
 // What the soil does to one body in one step.
