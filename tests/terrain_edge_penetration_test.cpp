@@ -36,16 +36,20 @@ CuttingSoil soil(double phi_deg, double c_kPa, double unit_weight_kN_m3) {
   return s;
 }
 
+EdgeInSoil edge_of(double thickness_m, double width_m, double overburden_m) {
+  EdgeInSoil e;
+  e.thickness_m = thickness_m;
+  e.width_m = width_m;
+  e.overburden_m = overburden_m;
+  return e;
+}
+
 TEST(EdgePenetration, DeepEdgeMatchesTheBearingPressureByHand) {
   // phi 30 deg, c 10 kPa, 16 kN/m^3; a 2 cm edge, 1 m wide, 0.3 m deep:
   // k = atan(15) = 1.50423, d_q = 1 + 2 tan30 (1 - sin30)^2 k = 1.43423,
   // d_c = d_q - (1 - d_q) / (N_c tan30) = 1.45919;
   // F = 0.02 (10e3 30.14 d_c + 16e3 0.3 18.40 d_q + 0.5 16e3 0.02 22.40) = 11401 N.
-  EdgeInSoil edge;
-  edge.thickness_m = 0.02;
-  edge.width_m = 1.0;
-  edge.overburden_m = 0.3;
-  const EdgeResistance r = edge_penetration(soil(30, 10, 16), edge);
+  const EdgeResistance r = edge_penetration(soil(30, 10, 16), edge_of(0.02, 1.0, 0.3));
   EXPECT_NEAR(r.force_N, 11401.1, 11401.1 * 2e-3);
   EXPECT_NEAR(r.cohesion_term_N + r.overburden_term_N + r.weight_term_N, r.force_N, 1e-9 * r.force_N);
   EXPECT_NEAR(r.pressure_Pa, r.force_N / 0.02, 1e-9 * r.pressure_Pa);
@@ -55,11 +59,7 @@ TEST(EdgePenetration, UndrainedClayIsPrandtlsPunchWithDepth) {
   // phi 0: N_c = 2 + pi, N_q = 1, N_gamma = 0, d_c = 1 + 0.4 k.
   // c 25 kPa, 18 kN/m^3, a 2 cm edge 1.5 m wide 0.25 m deep: k = atan(12.5)
   // = 1.49097; F = 0.03 (25e3 5.1416 (1 + 0.4 k) + 18e3 0.25) = 6289 N.
-  EdgeInSoil edge;
-  edge.thickness_m = 0.02;
-  edge.width_m = 1.5;
-  edge.overburden_m = 0.25;
-  const EdgeResistance r = edge_penetration(soil(0, 25, 18), edge);
+  const EdgeResistance r = edge_penetration(soil(0, 25, 18), edge_of(0.02, 1.5, 0.25));
   EXPECT_NEAR(r.force_N, 6289.1, 6289.1 * 1e-3);
   EXPECT_DOUBLE_EQ(r.weight_term_N, 0.0);
 }
@@ -68,26 +68,17 @@ TEST(EdgePenetration, ShallowEdgeUsesTheLinearDepthFactor) {
   // z < t: k = z / t. phi 30, cohesionless, 16 kN/m^3, z = 1 cm under a
   // 2 cm edge 1 m wide: d_q = 1 + 2 tan30 0.25 0.5 = 1.144338;
   // F = 0.02 (16e3 0.01 18.40 1.144338 + 0.5 16e3 0.02 22.40) = 139.06 N.
-  EdgeInSoil edge;
-  edge.thickness_m = 0.02;
-  edge.width_m = 1.0;
-  edge.overburden_m = 0.01;
-  EXPECT_NEAR(edge_penetration(soil(30, 0, 16), edge).force_N, 139.06, 139.06 * 2e-3);
+  EXPECT_NEAR(edge_penetration(soil(30, 0, 16), edge_of(0.02, 1.0, 0.01)).force_N, 139.06, 139.06 * 2e-3);
 }
 
 TEST(EdgePenetration, NothingOutOfTheSoilAndMoreWithDepth) {
-  EdgeInSoil edge;
-  edge.thickness_m = 0.02;
-  edge.width_m = 1.0;
   const CuttingSoil sand = soil(35, 0, 15.5);
-  edge.overburden_m = 0.0;
-  EXPECT_EQ(edge_penetration(sand, edge).force_N, 0.0);
-  edge.overburden_m = -0.1;
-  EXPECT_EQ(edge_penetration(sand, edge).force_N, 0.0);
+  EXPECT_EQ(edge_penetration(sand, edge_of(0.02, 1.0, 0.0)).force_N, 0.0);
+  EXPECT_EQ(edge_penetration(sand, edge_of(0.02, 1.0, -0.1)).force_N, 0.0);
+  EXPECT_EQ(edge_penetration(sand, edge_of(0.0, 1.0, 0.1)).force_N, 0.0);
   double previous = 0.0;
   for (double z = 0.005; z < 1.5; z *= 1.5) {
-    edge.overburden_m = z;
-    const double f = edge_penetration(sand, edge).force_N;
+    const double f = edge_penetration(sand, edge_of(0.02, 1.0, z)).force_N;
     EXPECT_GT(f, previous) << z;
     previous = f;
   }

@@ -20,6 +20,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from dem_io import read_material  # noqa: E402
 from mckyes import mckyes  # noqa: E402
 
 G = 9.80665
@@ -28,11 +29,7 @@ W = 0.10
 
 def main():
     res_dir, mat_csv, raw_dir = sys.argv[1:4]
-    mat = {}
-    for line in open(mat_csv):
-        p = line.strip().split(",")
-        if len(p) >= 2 and not line.startswith("quantity"):
-            mat[p[0]] = float(p[1])
+    mat = read_material(mat_csv)
     phi, delta, rho = mat["friction_angle_deg"], mat["tool_friction_angle_deg"], mat["bulk_density_kg_m3"]
     coh = mat["cohesion_kPa"] * 1000.0
     phi0 = mat["friction_angle_c0_deg"]

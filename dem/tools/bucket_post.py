@@ -14,7 +14,7 @@ import math
 import os
 import sys
 
-from dem_io import read_dump
+from dem_io import read_dump, read_material
 
 V, DIG = 0.2, math.radians(15.0)
 CURL, TCURL = 70.0, 0.7
@@ -23,11 +23,7 @@ W, L, H = 0.12, 0.08, 0.08
 
 def main():
     raw, res, mat_csv = sys.argv[1:4]
-    rho = None
-    for line in open(mat_csv):
-        p = line.split(",")
-        if p[0] == "bulk_density_kg_m3":
-            rho = float(p[1])
+    rho = read_material(mat_csv)["bulk_density_kg_m3"]
     ph = [l.strip().split(",") for l in open(os.path.join(raw, "bucket_phases.txt"))][1:]
     phases = [(p[0], float(p[2]), float(p[3]), float(p[4])) for p in ph]
     t0, x0, z0 = phases[0][1], phases[0][2], phases[0][3]

@@ -20,6 +20,16 @@ def read_dump(path):
     return rows
 
 
+def read_material(path):
+    """dem/calibration/material.csv as {quantity: value}."""
+    mat = {}
+    for line in open(path):
+        p = line.strip().split(",")
+        if len(p) >= 2 and not line.startswith("quantity"):
+            mat[p[0]] = float(p[1])
+    return mat
+
+
 def line_fit(points):
     """Least-squares line through (x, y) points: (slope, intercept)."""
     n = len(points)

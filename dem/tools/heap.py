@@ -24,7 +24,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from dem_io import read_dump  # noqa: E402
+from dem_io import read_dump, read_material  # noqa: E402
 
 W, XTIP0, HTOP, GRAIN_DENSITY = 0.10, 0.10, 0.12, 2650.0
 REF_X = (0.46, 0.56)
@@ -36,11 +36,7 @@ def grain_volume(g):
 
 def main():
     res_dir, mat_csv, raw_dir = sys.argv[1:4]
-    mat = {}
-    for line in open(mat_csv):
-        p = line.strip().split(",")
-        if len(p) >= 2 and not line.startswith("quantity"):
-            mat[p[0]] = float(p[1])
+    mat = read_material(mat_csv)
     solid_fraction = mat["bulk_density_kg_m3"] / GRAIN_DENSITY
     rows = []
     for path in sorted(glob.glob(os.path.join(raw_dir, "heap_a*_d*mm.dump"))):
