@@ -60,6 +60,54 @@ std::string svg_plot(const std::string& title, const std::string& error_label, c
   return s.str();
 }
 
+std::string svg_curves(const std::string& title, const std::string& x_label, const std::string& y_label,
+                       const std::vector<Curve>& curves) {
+  constexpr double W = 560, H = 340, L = 60, R = 150, T = 30, B = 50;
+  static const char* kColours[] = {"#1f5fa8", "#c0392b", "#27ae60", "#8e44ad", "#d68910", "#17a589"};
+  double x1 = 0.0, y1 = 0.0;
+  for (const Curve& c : curves)
+    for (const auto& [x, y] : c.points) x1 = std::max(x1, x), y1 = std::max(y1, y);
+  // Axes from zero to a round top: 1, 2 or 5 times a power of ten per tick, five or so ticks.
+  const auto nice = [](double top) {
+    const double step = std::pow(10.0, std::floor(std::log10(std::max(top, 1e-12) / 5.0)));
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+      if (top / (m * step) <= 6.0) return m * step;
+    return 10.0 * step;
+  };
+  const double dx = nice(x1), dy = nice(y1);
+  x1 = std::max(dx, std::ceil(x1 / dx) * dx), y1 = std::max(dy, std::ceil(y1 / dy) * dy);
+  const auto px = [&](double x) { return L + (W - L - R) * x / x1; };
+  const auto py = [&](double y) { return H - B - (H - T - B) * y / y1; };
+  std::ostringstream s;
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+    << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << L << "\" y=\"18\" font-size=\"13\">" << title << "</text>\n<rect x=\"" << L << "\" y=\"" << T
+    << "\" width=\"" << W - L - R << "\" height=\"" << H - T - B << "\" fill=\"none\" stroke=\"#888\"/>\n";
+  for (double x = 0.0; x <= x1 + 1e-9 * x1; x += dx)
+    s << "<text x=\"" << px(x) << "\" y=\"" << H - B + 14 << "\" text-anchor=\"middle\">" << fmt("%g", x) << "</text>\n";
+  for (double y = 0.0; y <= y1 + 1e-9 * y1; y += dy)
+    s << "<text x=\"" << L - 6 << "\" y=\"" << py(y) + 4 << "\" text-anchor=\"end\">" << fmt("%g", y) << "</text>\n";
+  s << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 12 << "\" text-anchor=\"middle\">" << x_label << "</text>\n"
+    << "<text x=\"14\" y=\"" << (T + H - B) / 2 << "\" transform=\"rotate(-90 14 " << (T + H - B) / 2
+    << ")\" text-anchor=\"middle\">" << y_label << "</text>\n";
+  int colour = -1;
+  for (std::size_t k = 0; k < curves.size(); ++k) {
+    const Curve& c = curves[k];
+    if (!c.dashed || colour < 0) ++colour;
+    const char* stroke = kColours[colour % 6];
+    s << "<polyline fill=\"none\" stroke=\"" << stroke << "\"" << (c.dashed ? " stroke-dasharray=\"5,3\"" : "")
+      << " points=\"";
+    for (const auto& [x, y] : c.points) s << px(x) << "," << py(y) << " ";
+    s << "\"/>\n";
+    const double ly = T + 14.0 * (static_cast<double>(k) + 1.0);
+    s << "<line x1=\"" << W - R + 8 << "\" y1=\"" << ly - 4 << "\" x2=\"" << W - R + 28 << "\" y2=\"" << ly - 4
+      << "\" stroke=\"" << stroke << "\"" << (c.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/><text x=\""
+      << W - R + 32 << "\" y=\"" << ly << "\">" << c.name << "</text>\n";
+  }
+  s << "</svg>\n";
+  return s.str();
+}
+
 std::string table(const std::vector<Rung>& rungs, const std::string& error_header, const std::string& cost_header,
                   const std::string& setting_header) {
   std::string t = "| " + setting_header + " | " + error_header + " | " + cost_header + " | |\n|---|---|---|---|\n";

@@ -52,6 +52,16 @@ std::string fmt(const char* format, double v);
 std::string svg_plot(const std::string& title, const std::string& error_label, const std::vector<Rung>& rungs,
                      const std::string& cost_label = "cost: wall s per simulated s (one core)");
 
+// Curves on linear axes (y against x), each with its name in a legend;
+// `dashed` curves share the colour of the one before them.
+struct Curve {
+  std::string name;
+  std::vector<std::pair<double, double>> points;
+  bool dashed = false;
+};
+std::string svg_curves(const std::string& title, const std::string& x_label, const std::string& y_label,
+                       const std::vector<Curve>& curves);
+
 // A Markdown table, a row per rung.
 std::string table(const std::vector<Rung>& rungs, const std::string& error_header,
                   const std::string& cost_header = kCostPerSimulatedSecond, const std::string& setting_header = "cells");
