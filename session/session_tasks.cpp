@@ -76,7 +76,8 @@ void check_tasks(const io::Exercise& ex, const engine::World& world) {
 
 bool Metrics::measured(const std::string& name) {
   static const char* const kMeasured[] = {"completion_time_s", "material_moved_kg", "tasks_done",
-                                          "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s", "stall_time_s",
+                                          "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s",
+                                          "stall_time_s",
                                           "left_work_area_s", "material_rate_kg_h", "spillage_kg",
                                           "bucket_fill_per_pass", "engine_energy_MJ", "collisions",
                                           "bucket_impacts", "people_collisions", "truck_collisions", "near_misses",
@@ -412,7 +413,8 @@ bool SessionTasks::bucket_in_soil(const engine::World& w) const {
 // gets nowhere, as a loader does when its hydraulics (the drive's relief,
 // the cylinders') or its traction cannot beat the soil. Counted once it has
 // lasted kStallOnsetS, then its whole length; an event once per stall.
-void SessionTasks::update_stall(const engine::World& w, double t, double dt_s, const vehicle::LoaderControls& controls) {
+void SessionTasks::update_stall(const engine::World& w, double t, double dt_s,
+                                const vehicle::LoaderControls& controls) {
   const vehicle::Loader& l = w.loader();
   const Eigen::Vector2d xy = l.link_pose(0).translation().head<2>();
   if (!stall_armed_ && (xy - stall_at_m_).norm() >= kStallRearmM) stall_armed_ = true;

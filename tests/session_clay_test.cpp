@@ -30,7 +30,7 @@ std::string source(const std::string& relative) {
   return (fs::path(io::default_loader_path()).parent_path().parent_path().parent_path() / relative).string();
 }
 
-constexpr double kBankFaceX_m = 10.0;  // the bank's west face in clay_cut.xml (its region starts there)
+constexpr double kBankFaceX_m = 10.0;  // the bank's face in clay_cut.xml: the pit's east edge, 6.5 + 7 / 2 m
 
 // One session played in-process by a script (fast mode), with what the
 // report does not keep: per tick, the bucket's load, how far its lip has
@@ -137,8 +137,8 @@ TEST(ClayCut, DeepCutIntoTheBankStalls) {
   for (const Played::Tick& k : p.first_phase("advance_until_full")) deepest_lip_m = std::max(deepest_lip_m, k.lip_x_m);
   EXPECT_LT(kg_at_stall, 300.0);
   EXPECT_LT(deepest_lip_m - kBankFaceX_m, 0.3);
-  std::printf("[ measured ] deep cut: stalls at %.2f and %.2f s, stall_time_s %.2f, %.0f kg in the bucket at the first, "
-              "lip %.2f m into the face; %.1f kg moved, score %.1f, peak bucket %.1f m/s^2\n",
+  std::printf("[ measured ] deep cut: stalls at %.2f and %.2f s, stall_time_s %.2f, %.0f kg in the bucket at "
+              "the first, lip %.2f m into the face; %.1f kg moved, score %.1f, peak bucket %.1f m/s^2\n",
               stalls[0], stalls[1], m["stall_time_s"].get<double>(), kg_at_stall, deepest_lip_m - kBankFaceX_m,
               m["material_moved_kg"].get<double>(), p.report["result"]["score"].get<double>(),
               p.report["peak_bucket_acceleration_m_s2"].get<double>());
@@ -170,7 +170,8 @@ TEST(ClayCut, DeepCutIntoSandDoesNotStall) {
   EXPECT_LT(m["stall_time_s"].get<double>(), 1.0);  // measured 0
   EXPECT_TRUE(p.stall_times_s().empty()) << p.report["events"].dump();
   double first_fill_kg = 0.0;
-  for (const Played::Tick& k : p.first_phase("advance_until_full")) first_fill_kg = std::max(first_fill_kg, k.bucket_kg);
+  for (const Played::Tick& k : p.first_phase("advance_until_full"))
+    first_fill_kg = std::max(first_fill_kg, k.bucket_kg);
   EXPECT_GE(first_fill_kg, 350.0) << "the deep cut fills its bucket in sand";
   std::printf("[ measured ] deep cut in sand: stall_time_s %.2f, %.0f kg in the bucket in the cut, %.1f kg moved\n",
               m["stall_time_s"].get<double>(), first_fill_kg, m["material_moved_kg"].get<double>());
