@@ -118,7 +118,7 @@ TEST(ClayCut, ThinSlicesOffTheTopPassWithoutAStall) {
 }
 
 // The deep cut: the edge tipped 12 deg into the bank's foot, the clay's
-// standing 1 m face stops the machine half full (252 kg of its 350 kg)
+// standing 1 m face stops the machine half full (252 kg of its 450 kg)
 // 0.09 m into the face, the wheels spinning; the script pushes 4 s before
 // it curls out. Two attempts, the load tipped in the zone between (the
 // machine moves on): two stalls, one event each.
@@ -130,12 +130,14 @@ TEST(ClayCut, DeepCutIntoTheBankStalls) {
   // 8.06 s measured (each stall from its onset to the script's curl).
   EXPECT_GT(m["stall_time_s"].get<double>(), 6.0);
   EXPECT_FALSE(p.report["result"]["passed"].get<bool>());
-  // Where the first stall left the bucket: well short of the 350 kg asked
+  // Where the first stall left the bucket: well short of the 450 kg asked
   // for, its lip hardly into the face.
   const double kg_at_stall = p.at(stalls[0]).bucket_kg;
   double deepest_lip_m = 0.0;
   for (const Played::Tick& k : p.first_phase("advance_until_full")) deepest_lip_m = std::max(deepest_lip_m, k.lip_x_m);
-  EXPECT_LT(kg_at_stall, 300.0);
+  // 252 kg here; 346 kg with main's edge penetration (ce6c25e): both far
+  // from the 450 kg asked for and the clay's 700 kg heaped.
+  EXPECT_LT(kg_at_stall, 400.0);
   EXPECT_LT(deepest_lip_m - kBankFaceX_m, 0.3);
   std::printf("[ measured ] deep cut: stalls at %.2f and %.2f s, stall_time_s %.2f, %.0f kg in the bucket at "
               "the first, lip %.2f m into the face; %.1f kg moved, score %.1f, peak bucket %.1f m/s^2\n",
@@ -144,15 +146,16 @@ TEST(ClayCut, DeepCutIntoTheBankStalls) {
               p.report["peak_bucket_acceleration_m_s2"].get<double>());
 }
 
-// The same deep script in a bank of sand: dem_sand, the table's sand that
-// takes the same earthmoving equation with no cohesion (the other sands use
-// the thesis's wedge, which would change the force law too; dry_sand was
-// measured as well: no stall, 485 kg carried). A cohesionless bank cannot
-// stand: it runs on the automaton (the slippage model fails a sand slice at
-// phi as the automaton does at repose, and its slow creep to rest would cost
-// the test half a minute before the session starts) and slumps to its
-// repose angle, so the bucket fills its 350 kg without stopping. The stall
-// is the clay's cohesion.
+// The same deep script in a bank of sand: dry_sand, the table's dry sand
+// (no cohesion, and the thesis's wedge for the cut, as the table gives its
+// sands). A cohesionless bank cannot stand: it runs on the automaton (the
+// slippage model fails a sand slice at phi as the automaton does at repose,
+// and its slow creep to rest would cost the test half a minute before the
+// session starts) and slumps to its repose angle, so the bucket fills its
+// 450 kg without stopping (it stops only heaped, about 650 kg). The stall is
+// the clay's. (dem_sand, the earthmoving equation with no cohesion, fills
+// its 450 kg without a stall too, but only just: it stops once about full,
+// near 450 kg, so it would test the margin of the sand, not the clay.)
 TEST(ClayCut, DeepCutIntoSandDoesNotStall) {
   std::ifstream in(source("scenarios/clay_cut.xml"));
   std::stringstream text;
@@ -160,7 +163,7 @@ TEST(ClayCut, DeepCutIntoSandDoesNotStall) {
   std::string xml = text.str();
   const std::string clay = "type=\"clayey_soil_38\" model=\"slippage\"";
   ASSERT_NE(xml.find(clay), std::string::npos);
-  xml.replace(xml.find(clay), clay.size(), "type=\"dem_sand\"");
+  xml.replace(xml.find(clay), clay.size(), "type=\"dry_sand\"");
   const fs::path dir = fs::temp_directory_path() / ("skidsim_clay_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "sand_cut.xml") << xml;
@@ -172,7 +175,7 @@ TEST(ClayCut, DeepCutIntoSandDoesNotStall) {
   double first_fill_kg = 0.0;
   for (const Played::Tick& k : p.first_phase("advance_until_full"))
     first_fill_kg = std::max(first_fill_kg, k.bucket_kg);
-  EXPECT_GE(first_fill_kg, 350.0) << "the deep cut fills its bucket in sand";
+  EXPECT_GE(first_fill_kg, 450.0) << "the deep cut fills its bucket in sand";
   std::printf("[ measured ] deep cut in sand: stall_time_s %.2f, %.0f kg in the bucket in the cut, %.1f kg moved\n",
               m["stall_time_s"].get<double>(), first_fill_kg, m["material_moved_kg"].get<double>());
 }
