@@ -399,8 +399,9 @@ const std::vector<std::string>& known_metrics() {
   static const std::vector<std::string> m = {
       "completion_time_s", "material_moved_kg", "material_rate_kg_h", "spillage_kg",      "bucket_fill_per_pass",
       "collisions",        "near_misses",       "tipping_margin_violations",            "bucket_impacts",
-      "wheel_slip_time_s", "idle_time_s",       "left_work_area_s", "engine_energy_MJ", "tasks_done",
-      "people_collisions", "truck_collisions",  "min_distance_to_people_m",             "speed_near_people_s"};
+      "wheel_slip_time_s", "stall_time_s",      "idle_time_s",      "left_work_area_s", "engine_energy_MJ",
+      "tasks_done",        "people_collisions", "truck_collisions", "min_distance_to_people_m",
+      "speed_near_people_s"};
   return m;
 }
 

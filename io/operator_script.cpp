@@ -78,6 +78,11 @@ OperatorScript load_operator_script(const std::string& path) {
       if (a.has("speed")) p.speed = a.number_in("speed", 0.05, 1.0);
       if (a.has("full_kg")) p.full_kg = a.number_in("full_kg", 1.0, 1e5);
       if (a.has("max_m")) p.max_m = a.number_in("max_m", 0.1, 100.0);
+      // The arm's whole travel, and pitches from tipped well forward to
+      // rolled back past the carry position.
+      if (a.has("lift_rad")) p.cut_lift_rad = a.number_in("lift_rad", 0.0, 1.7);
+      if (a.has("pitch_deg")) p.cut_pitch_deg = a.number_in("pitch_deg", -60.0, 30.0);
+      if (a.has("stall_s")) p.stall_s = a.number_in("stall_s", 0.1, 3600.0);
     } else if (name == "raise") {
       p.kind = ScriptPhase::Kind::kRaise;
       p.angle_rad = a.number_in("angle_rad", 0.0, 1.7);

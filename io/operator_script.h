@@ -24,7 +24,7 @@ struct ScriptPhase {
     kDriveTo,           // turn towards the point, drive to within tolerance_m
     kTurnTo,            // pivot to heading yaw_deg
     kLower,             // arm down, bucket floor level
-    kAdvanceUntilFull,  // forward, bucket level, until full_kg, stalled, or max_m driven
+    kAdvanceUntilFull,  // forward, bucket held (lowered and level), until full_kg, stalled, or max_m driven
     kRaise,             // arm to angle_rad, bucket rolled back
     kDump,              // tip to pitch_deg until nothing more comes out
     kReverse,           // back distance_m, bucket rolled back
@@ -37,6 +37,11 @@ struct ScriptPhase {
   double tolerance_m = 0.3, speed = 0.5;
   double yaw_deg = 0.0;
   double full_kg = 500.0, max_m = 5.0;
+  // advance_until_full: where the bucket cuts (the arm's angle and the
+  // floor's pitch held, + rolled back; the defaults are the lowered bucket,
+  // floor level: a cut at the ground) and how long the machine may stand
+  // in the cut before the phase gives up as stalled.
+  double cut_lift_rad = 0.03, cut_pitch_deg = 0.0, stall_s = 0.5;
   double angle_rad = 0.9;
   double pitch_deg = -57.0;
   double distance_m = 1.0;

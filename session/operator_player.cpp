@@ -111,14 +111,14 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
       break;
     case io::ScriptPhase::Kind::kAdvanceUntilFull: {
       steer(c, p.speed, 0.0);
-      c.lift = lift_to(s, 0.03);
-      c.tilt = tilt_to(s, 0.0);
+      c.lift = lift_to(s, p.cut_lift_rad);
+      c.tilt = tilt_to(s, p.cut_pitch_deg * kPi / 180.0);
       if (in_phase > 1.5 && speed < 0.05) {
         if (slow_since_s_ < 0.0) slow_since_s_ = t;
       } else {
         slow_since_s_ = -1.0;
       }
-      goal = s.bucket_payload_kg >= p.full_kg || (slow_since_s_ >= 0.0 && t - slow_since_s_ > 0.5) ||
+      goal = s.bucket_payload_kg >= p.full_kg || (slow_since_s_ >= 0.0 && t - slow_since_s_ > p.stall_s) ||
              (xy - start_xy_).norm() > p.max_m;
       break;
     }

@@ -72,7 +72,7 @@ void Session::keep_books(const skidsim_lcm::state_t& state, const TickDecision& 
                          SessionOutput& out) {
   engine::World& w = *world_;
   out.applied(to_message(controls_, ++seq_, step), t);
-  tasks_->update(w, kStepsPerTick * engine::kStepSeconds);
+  tasks_->update(w, kStepsPerTick * engine::kStepSeconds, controls_);
   // Spawn events: an agent held for a task comes on site once it is done.
   for (std::size_t k = 0; k < exercise_.agents.size(); ++k)
     if (!exercise_.agents[k].start_after.empty() && w.agent_specs()[k].held)

@@ -31,6 +31,24 @@ constexpr double kOutOfCutM = 0.3;      // the lip this far above the ground has
 constexpr double kPassMinKg = 50.0;     // a load smaller than this is no pass
 constexpr double kPassEndShare = 0.9;   // a pass ends when the bucket holds less than this share of it
 constexpr double kEmptiedS = 0.4;       // ... or has been empty this long
+// Stalls: the operator pushes (drive levers forward, or lift / tilt levers
+// asking the arm or bucket to move) with the bucket in the soil, and the
+// machine gets nowhere (the chassis under kIdleSpeedMps, or a wheel slipping
+// past kSlipLimit; the commanded joints not turning).
+constexpr double kStallDriveLever = 0.1;  // the drive levers' mean past this pushes forward (a creep onto a
+                                          // target point, 0.08 in the scripts, does not)
+constexpr double kStallImplementLever = 0.5;  // a lift or tilt lever past half way asks the joint to move; the
+                                              // scripts' closed loops holding the arm or bucket stay under it
+constexpr double kStallJointRadS = 0.02;  // a joint turning slower than this is held: free, the arm and bucket
+                                          // turn at 0.4-0.9 rad/s at full lever (skidsim check's times)
+constexpr double kStallOnsetS = 1.0;  // held up this long, the machine is stalled (and the whole time counts):
+                                      // a lever's ramp or the check as the edge bites is not a stall, nor
+                                      // the scripts' own 0.5 s at a standstill before they give up a cut
+constexpr double kStallRearmM = 0.3;  // the next stall is a new one once the chassis has moved this far from
+                                      // where the last was found (backed out of the cut, or broken through)
+constexpr double kInSoilAheadM = 0.1;  // the soil the edge is about to meet: this far ahead of the lip
+constexpr double kInSoilM = 0.02;      // the soil over the lip by more than this: the bucket is in it (a lip
+                                       // riding on the surface is not)
 
 }  // namespace
 
@@ -59,6 +77,7 @@ void check_tasks(const io::Exercise& ex, const engine::World& world) {
 bool Metrics::measured(const std::string& name) {
   static const char* const kMeasured[] = {"completion_time_s", "material_moved_kg", "tasks_done",
                                           "tipping_margin_violations", "idle_time_s", "wheel_slip_time_s",
+                                          "stall_time_s",
                                           "left_work_area_s", "material_rate_kg_h", "spillage_kg",
                                           "bucket_fill_per_pass", "engine_energy_MJ", "collisions",
                                           "bucket_impacts", "people_collisions", "truck_collisions", "near_misses",
@@ -75,6 +94,7 @@ double Metrics::value(const std::string& name) const {
   if (name == "tipping_margin_violations") return tipping_margin_violations;
   if (name == "idle_time_s") return idle_time_s;
   if (name == "wheel_slip_time_s") return wheel_slip_time_s;
+  if (name == "stall_time_s") return stall_time_s;
   if (name == "left_work_area_s") return left_work_area_s;
   if (name == "material_rate_kg_h") return material_rate_kg_h;
   if (name == "spillage_kg") return spillage_kg;
@@ -210,7 +230,7 @@ void SessionTasks::emit(double t, const std::string& kind, const std::string& te
   log_.push_back(e);
 }
 
-void SessionTasks::update(const engine::World& w, double dt_s) {
+void SessionTasks::update(const engine::World& w, double dt_s, const vehicle::LoaderControls& controls) {
   const double t = w.time_s();
   const Eigen::Vector2d xy = w.loader().link_pose(0).translation().head<2>();
   const double moved = update_task_progress(w, t, xy);
@@ -221,6 +241,7 @@ void SessionTasks::update(const engine::World& w, double dt_s) {
   if (!done_) metrics_.completion_time_s = t;
   done_ = all_done();
   update_handling(w, t, dt_s);
+  update_stall(w, t, dt_s, controls);
   const double work_s = metrics_.completion_time_s;
   metrics_.material_rate_kg_h = work_s > 0.0 ? moved * 3600.0 / work_s : 0.0;
   // Passes and spillage from the bucket's load, looked at every 0.2 s (the
@@ -372,6 +393,64 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
   });
   metrics_.safety = safety_.metrics();
   metrics_.engine_energy_MJ += l.engine_output_power_W() * dt_s * 1e-6;
+}
+
+// Whether the bucket is in the soil: the surface at its lip, or just ahead
+// of it, stands over the lip (the edge is in the cut or pressing into a
+// face). Sites without soil have none to be in.
+bool SessionTasks::bucket_in_soil(const engine::World& w) const {
+  const terrain::BodyAutomaton* b = w.bucket_material();
+  if (!w.terrain() || !b) return false;
+  const Eigen::Vector3d lip = b->pose() * Eigen::Vector3d(b->shape().length_m, 0.5 * b->shape().width_m, 0.0);
+  const Eigen::Vector2d forward = (b->pose().linear() * Eigen::Vector3d::UnitX()).head<2>();
+  const double n = forward.norm();
+  const Eigen::Vector2d ahead = n > 0.0 ? Eigen::Vector2d(lip.head<2>() + kInSoilAheadM / n * forward) : lip.head<2>();
+  const double soil_m = std::max(ground_height_m(w, lip.head<2>()), ground_height_m(w, ahead));
+  return soil_m > lip.z() + kInSoilM;
+}
+
+// A stall: the operator pushes with the bucket in the soil and the machine
+// gets nowhere, as a loader does when its hydraulics (the drive's relief,
+// the cylinders') or its traction cannot beat the soil. Counted once it has
+// lasted kStallOnsetS, then its whole length; an event once per stall.
+void SessionTasks::update_stall(const engine::World& w, double t, double dt_s,
+                                const vehicle::LoaderControls& controls) {
+  const vehicle::Loader& l = w.loader();
+  const Eigen::Vector2d xy = l.link_pose(0).translation().head<2>();
+  if (!stall_armed_ && (xy - stall_at_m_).norm() >= kStallRearmM) stall_armed_ = true;
+  double worst_slip = 0.0;
+  for (const vehicle::WheelState& wheel : l.wheels()) worst_slip = std::max(worst_slip, std::abs(wheel.slip_ratio));
+  const bool driving = 0.5 * (controls.drive_left + controls.drive_right) > kStallDriveLever;
+  const bool drive_held = l.chassis_velocity().head<2>().norm() < kIdleSpeedMps || worst_slip > kSlipLimit;
+  // The implement: some joint asked to move, and none of those asked turning.
+  const double levers[2] = {controls.lift, controls.tilt};
+  bool asked = false, turning = false;
+  for (int k = 0; k < 2; ++k)
+    if (std::abs(levers[k]) > kStallImplementLever) {
+      asked = true;
+      turning = turning || std::abs(l.joint_speed(k)) >= kStallJointRadS;
+    }
+  const bool pushing = (driving && drive_held) || (asked && !turning);
+  if (!pushing || !bucket_in_soil(w)) {
+    stuck_s_ = 0.0;
+    stalled_ = false;
+    return;
+  }
+  stuck_s_ += dt_s;
+  if (stalled_) {
+    metrics_.stall_time_s += dt_s;
+    return;
+  }
+  if (stuck_s_ < kStallOnsetS - 1e-9) return;
+  // A stall: its onset counts too, and it gets an event unless it is the
+  // last one again (the machine has not moved on since).
+  stalled_ = true;
+  metrics_.stall_time_s += stuck_s_;
+  stall_at_m_ = xy;
+  if (stall_armed_) {
+    stall_armed_ = false;
+    emit(t, "stall", "The bank stops the machine: take a thinner cut (back out, raise the edge and cut again)", 1);
+  }
 }
 
 // The exercise's own events (at a time, on entering a zone, on a task done).

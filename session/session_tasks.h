@@ -35,6 +35,7 @@ struct Metrics {
   double tipping_margin_violations = 0.0;  // times the rear axle lost almost all its load for 0.25 s
   double idle_time_s = 0.0;
   double wheel_slip_time_s = 0.0;
+  double stall_time_s = 0.0;           // pushing (drive or implement) with the bucket in the soil and getting nowhere
   double left_work_area_s = 0.0;
   double bucket_impacts = 0.0;         // times the bucket was stopped (or thrown) harder than kImpactMps2
   double peak_bucket_acceleration_m_s2 = 0.0;  // the hardest, over a 10 ms tick
@@ -57,8 +58,9 @@ void check_tasks(const io::Exercise& exercise, const engine::World& world);
 class SessionTasks {
  public:
   SessionTasks(const io::Exercise& exercise, const engine::World& world);
-  // Once per control tick of `dt_s`.
-  void update(const engine::World& world, double dt_s);
+  // Once per control tick of `dt_s`, with the controls given at the tick
+  // (the stall measure asks what the operator commanded).
+  void update(const engine::World& world, double dt_s, const vehicle::LoaderControls& controls = {});
   bool all_done() const;
   const std::vector<TaskProgress>& tasks() const { return tasks_; }
   void add_event(double t, const std::string& kind, const std::string& text, int severity) {
@@ -89,6 +91,8 @@ class SessionTasks {
   void emit(double t, const std::string& kind, const std::string& text, int severity = 0);
   double update_task_progress(const engine::World& w, double t, const Eigen::Vector2d& xy);
   void update_handling(const engine::World& w, double t, double dt_s);
+  void update_stall(const engine::World& w, double t, double dt_s, const vehicle::LoaderControls& controls);
+  bool bucket_in_soil(const engine::World& w) const;
   void fire_exercise_events(double t, const Eigen::Vector2d& xy);
 
   const io::Exercise& exercise_;
@@ -112,6 +116,10 @@ class SessionTasks {
   bool have_bucket_velocity_ = false;
   double since_impact_s_ = 1e9;
   double apart_s_ = 1e9;  // how long the machine has been clear of obstacles (collision re-arm)
+  double stuck_s_ = 0.0;  // how long the operator has been pushing and getting nowhere
+  bool stalled_ = false;  // ... long enough to be a stall
+  bool stall_armed_ = true;  // the next stall gets an event (re-armed once the machine has moved on)
+  Eigen::Vector2d stall_at_m_ = Eigen::Vector2d::Zero();  // where the chassis stood when the last stall was found
   SafetyMonitor safety_;
 };
 

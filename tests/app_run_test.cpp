@@ -260,7 +260,7 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, ShippedScenario,
                          ::testing::Values(Scenario{"driving_course", false}, Scenario{"pile_to_zone", true},
                                            Scenario{"truck_loading", true}, Scenario{"grading", true},
                                            Scenario{"trench_backfill", true}, Scenario{"soft_slope_climb", true},
-                                           Scenario{"site_safety", true}),
+                                           Scenario{"site_safety", true}, Scenario{"clay_cut", true}),
                          [](const ::testing::TestParamInfo<Scenario>& p) { return std::string(p.param.name); });
 
 // The optional terrain channel: every tile once at the start, then only

@@ -73,6 +73,9 @@ TEST(OperatorScript, BadScriptsNameFileLineAndElement) {
                         Case{"<dig/>", "<dig> unknown element"},
                         Case{"<raise angle_rad=\"5\"/>", "<raise> attribute 'angle_rad' = 5: out of range"},
                         Case{"<drive_to to=\"1\"/>", "expected 2 numbers"},
+                        Case{"<advance_until_full lift_rad=\"2\"/>",
+                             "<advance_until_full> attribute 'lift_rad' = 2: out of range"},
+                        Case{"<advance_until_full pitch_deg=\"-90\"/>", "attribute 'pitch_deg' = -90: out of range"},
                         Case{"", "at least one phase"}}) {
     const fs::path f = dir / "s.xml";
     std::ofstream(f, std::ios::trunc) << "<operator_script name=\"t\">\n  " << c.body << "\n</operator_script>\n";
