@@ -93,7 +93,7 @@ TEST(ClayCut, ThinSlicesOffTheTopPassWithoutAStall) {
   EXPECT_EQ(p.report["end_reason"], "tasks_done");
   EXPECT_TRUE(p.report["result"]["passed"].get<bool>()) << p.report["result"].dump();
   EXPECT_TRUE(p.report["timed_out"].empty()) << p.report["timed_out"].dump();
-  // 500.5 kg at 65.4 s (the task's mass, reached as the second load lands).
+  // 500.9 kg at 66.8 s (the task's mass, reached as the second load lands).
   EXPECT_GE(m["material_moved_kg"].get<double>(), 500.0);
   EXPECT_EQ(m["stall_time_s"].get<double>(), 0.0);  // measured 0: never held up 1 s
   EXPECT_TRUE(p.stall_times_s().empty());
@@ -118,8 +118,8 @@ TEST(ClayCut, ThinSlicesOffTheTopPassWithoutAStall) {
 }
 
 // The deep cut: the edge tipped 12 deg into the bank's foot, the clay's
-// standing 1 m face stops the machine half full (252 kg of its 450 kg)
-// 0.09 m into the face, the wheels spinning; the script pushes 4 s before
+// standing 1 m face stops the machine half full (346 kg of its 450 kg)
+// 0.10 m into the face, the wheels spinning; the script pushes 4 s before
 // it curls out. Two attempts, the load tipped in the zone between (the
 // machine moves on): two stalls, one event each.
 TEST(ClayCut, DeepCutIntoTheBankStalls) {
@@ -135,8 +135,9 @@ TEST(ClayCut, DeepCutIntoTheBankStalls) {
   const double kg_at_stall = p.at(stalls[0]).bucket_kg;
   double deepest_lip_m = 0.0;
   for (const Played::Tick& k : p.first_phase("advance_until_full")) deepest_lip_m = std::max(deepest_lip_m, k.lip_x_m);
-  // 252 kg here; 346 kg with main's edge penetration (ce6c25e): both far
-  // from the 450 kg asked for and the clay's 700 kg heaped.
+  // 346 kg measured (the edge's bearing, terrain/edge_penetration.h, and the
+  // equation's wedge as it fills): far from the 450 kg asked for and the
+  // clay's 700 kg heaped.
   EXPECT_LT(kg_at_stall, 400.0);
   EXPECT_LT(deepest_lip_m - kBankFaceX_m, 0.3);
   std::printf("[ measured ] deep cut: stalls at %.2f and %.2f s, stall_time_s %.2f, %.0f kg in the bucket at "
