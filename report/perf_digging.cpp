@@ -206,11 +206,12 @@ ReportSection digging_dem_section(const ReportContext& ctx) {
       "width to 4 d ahead, dem/tools/heap.py; skidsim's in its wedge); the blade has swept 1.5.\n\n" +
       header + "\n" + rule + "\n" + rows + "\n![error against the DEM against cost](" + svg +
       ")\n\n![N along the push: DEM solid, skidsim dashed, " + fmt("%g cells/m", rungs.back()) + "](" + svg_along +
-      ")\n\nReading it: the equation sits near the DEM at a vertical blade 0.4 as deep as wide and above it deeper; "
-      "it gives a raked face far less than the DEM does; and along the push skidsim's heap, taken as surcharge "
-      "on the central wedge, lifts the mean above the DEM's in every case (docs/soil_contact.md says why). The 15 % the "
-      "earthmoving issue asks for is not reached yet; until it is, the soil table gives the equation only to "
-      "`dem_sand` and the clays.\n\n";
+      ")\n\nReading it: on flat ground the equation sits near the DEM at a vertical blade 0.4 as deep as wide and "
+      "above it deeper, and gives a raked face far less than the DEM does; skidsim keeps about as much soil heaped "
+      "in front as the DEM (more at 60 deg, where the DEM also carries soil on its face), and that heap, taken as "
+      "surcharge on the central wedge, lifts its mean above the DEM's in every case. docs/soil_contact.md gives the "
+      "equation the DEM's own heap: close at 60 deg, well over at 90 deg. The 15 % the earthmoving issue asks for is "
+      "not reached; until it is, the soil table gives the equation only to `dem_sand` and the clays.\n\n";
   return out;
 }
 
