@@ -476,8 +476,9 @@ void World::soil_on_machine() {
     // constraint). A slicing edge meets no fracture wedge (6.4); what
     // resists it moving forward is the cutting itself and the load it
     // drives into the bucket, which the material already there must make
-    // room for: the wedge limit ahead scaled from `edge_resistance` (empty)
-    // to 1 (struck full, pushing like a blade). Other ways it is a blade.
+    // room for: the wedge limit ahead scaled by slicing_edge_shares (the
+    // edge's part when empty, 1 struck full, pushing like a blade). Other
+    // ways it is a blade.
     double wedge_scale[4] = {1.0, 1.0, 1.0, 1.0};
     if (slicing) slicing_edge_shares(pose, forward, r, wedge_scale);
     resistance.set(r, wedge_scale, motion.velocity_at(r.shear_point_m).head<2>(), kStepSeconds);
