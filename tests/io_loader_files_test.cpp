@@ -180,6 +180,11 @@ TEST_F(BrokenLoader, BucketInteriorErrorsNameTheElement) {
   expect_error({"skidsteer.params.xml:", "<interior>", "heel_radius_m"});
 }
 
+TEST_F(BrokenLoader, CuttingEdgeThicknessOutOfRangeIsRejected) {
+  replace("skidsteer.params.xml", "cutting_edge_thickness_m=\"0.02\"", "cutting_edge_thickness_m=\"0.5\"");
+  expect_error({"skidsteer.params.xml:", "<interior>", "cutting_edge_thickness_m", "out of range"});
+}
+
 TEST_F(BrokenLoader, UnknownBucketChildAndBadFillingAreRejected) {
   replace("skidsteer.params.xml", "<filling heaped_volume_m3", "<filing heaped_volume_m3");
   expect_error({"skidsteer.params.xml:", "<filing>", "unknown element"});
