@@ -329,13 +329,12 @@ void World::slicing_edge_shares(const Eigen::Isometry3d& pose, const Eigen::Vect
     edge.width_m = in.width_m / strips;
     edge.overburden_m = grid_->surface_at(n) - p.z();
     if (!(edge.overburden_m > 0.0)) continue;
-    const terrain::SoilMechanics& soil = soil_->soil_at_cell(n);
-    if (soil.cutting != terrain::CuttingModel::kEarthmoving) {
+    if (soil_->soil_at_cell(n).cutting != terrain::CuttingModel::kEarthmoving) {
       ++thesis_strips;
       continue;
     }
     ++bearing_strips;
-    edge_N += terrain::edge_penetration(terrain::cutting_soil(soil, grid_->soil().bulk_density_kg_m3), edge).force_N;
+    edge_N += terrain::edge_penetration(soil_->cutting_soil_at_cell(n), edge).force_N;
   }
   if (bearing_strips > thesis_strips) edge_penetration_N_ = edge_N;
   const double fill = bucket_fill_fraction();

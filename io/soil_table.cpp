@@ -88,9 +88,8 @@ SoilTable load_soil_table(const std::string& path) {
     else if (model.empty() || model == "bekker") m.model = terrain::VerticalLoadModel::kBekker;
     else fail(path, tm, "attribute 'model' = \"" + model + "\": expected \"bekker\" or \"incompressible\"");
     const std::string cutting = t.text("cutting_model", false);
-    if (cutting.empty() || cutting == "thesis_wedge") m.cutting = terrain::CuttingModel::kThesisWedge;
-    else if (cutting == "earthmoving") m.cutting = terrain::CuttingModel::kEarthmoving;
-    else
+    if (cutting.empty()) m.cutting = terrain::CuttingModel::kThesisWedge;
+    else if (!terrain::cutting_model_from_name(cutting, &m.cutting))
       fail(path, tm, "attribute 'cutting_model' = \"" + cutting + "\": expected \"earthmoving\" or \"thesis_wedge\"");
     t.reject_unknown();
     t.reject_content();

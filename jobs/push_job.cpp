@@ -41,7 +41,8 @@ int run_push_job(const PushJob& job) {
   require(job.width_m >= 2.0 / job.cells_per_m && job.width_m <= 10.0, "--width-m", job.width_m,
           "at least two cells and at most 10 m");
   require(job.rake_deg >= 10.0 && job.rake_deg <= 90.0, "--rake-deg", job.rake_deg, "10 to 90 deg");
-  if (!job.cutting_model.empty() && job.cutting_model != "earthmoving" && job.cutting_model != "thesis_wedge")
+  terrain::CuttingModel chosen = terrain::CuttingModel::kThesisWedge;
+  if (!job.cutting_model.empty() && !terrain::cutting_model_from_name(job.cutting_model, &chosen))
     throw io::InputError("--cutting-model '" + job.cutting_model + "': expected earthmoving or thesis_wedge");
   require(job.speed_m_s >= 0.01 && job.speed_m_s <= 10.0, "--speed-m-s", job.speed_m_s, "0.01 to 10 m/s");
   require(job.distance_m > 0.0 && job.distance_m <= 100.0, "--distance-m", job.distance_m, "more than 0 and at most 100 m");
@@ -55,8 +56,7 @@ int run_push_job(const PushJob& job) {
   const auto it = table.find(job.soil_id);
   if (it == table.end()) throw io::InputError("--soil '" + job.soil_id + "' is not in " + table_path);
   io::SoilRecord soil = it->second;
-  if (job.cutting_model == "earthmoving") soil.terramechanics.cutting = terrain::CuttingModel::kEarthmoving;
-  if (job.cutting_model == "thesis_wedge") soil.terramechanics.cutting = terrain::CuttingModel::kThesisWedge;
+  if (!job.cutting_model.empty()) soil.terramechanics.cutting = chosen;
   const bool earthmoving = soil.terramechanics.cutting == terrain::CuttingModel::kEarthmoving;
 
   // The site: a strip a blade length wider than the blade on each side, the
@@ -152,7 +152,7 @@ int run_push_job(const PushJob& job) {
       {"site", {{"nx", spec.nx}, {"ny", spec.ny}, {"cell_size_m", spec.cell_size_m}, {"layer_m", job.layer_m}}},
       {"blade", {{"depth_m", job.depth_m}, {"width_m", job.width_m}, {"rake_deg", job.rake_deg},
                  {"speed_m_s", job.speed_m_s}, {"distance_m", job.distance_m}}},
-      {"cutting_model", earthmoving ? "earthmoving" : "thesis_wedge"},
+      {"cutting_model", terrain::cutting_model_name(soil.terramechanics.cutting)},
       {"reference",
        {{"earthmoving_N", equation.horizontal_N},
         {"earthmoving_terms_N",

@@ -29,7 +29,7 @@ struct CsvNumbers {
 
 CsvNumbers read_csv_numbers(const fs::path& path) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error("performance report: no DEM results at " + path.string());
+  if (!in) throw std::runtime_error("performance report: cannot read " + path.string());
   CsvNumbers out;
   std::string line;
   std::getline(in, line);
@@ -85,24 +85,22 @@ PushResult push_like(const DemBlade& dem, double cells_per_m, const fs::path& wo
   p.out_dir = work.string();
   if (jobs::run_push_job(p) != 0) throw std::runtime_error("performance report: the DEM-scale push failed");
   const nlohmann::json s = read_summary(work);
-  const double gamma_d2_w = s["soil"]["bulk_density_kg_m3"].get<double>() * kGravity_m_s2 * p.depth_m * p.depth_m;
-  std::ifstream csv(work / "resistance.csv");
-  std::string line;
-  std::getline(csv, line);
+  const double gamma_d2_w =
+      s["soil"]["bulk_density_kg_m3"].get<double>() * kGravity_m_s2 * p.depth_m * p.depth_m * p.width_m;
+  const fs::path path = work / "resistance.csv";
+  const CsvNumbers t = read_csv_numbers(path);
+  const std::size_t at = t.column("distance_m", path), draft = t.column("resistance_N", path),
+                    weight = t.column("wedge_weight_N", path), down = t.column("face_vertical_down_N", path);
   PushResult r;
-  // distance_m, resistance_N, wedge_weight_N, ..., face_vertical_down_N (the last column)
-  double sum = 0.0, sum_down = 0.0, first_weight = -1.0, heap_weight = -1.0;
+  double sum = 0.0, sum_down = 0.0, heap_weight = -1.0;
   int n = 0;
-  while (std::getline(csv, line)) {
-    std::vector<double> v;
-    for (std::stringstream ss(line); std::getline(ss, line, ',');) v.push_back(std::stod(line));
-    if (v.size() < 7) throw std::runtime_error("performance report: short row in the push's resistance.csv");
-    if (first_weight < 0.0) first_weight = v[2];
-    if (heap_weight < 0.0 && v[0] >= 1.5 * p.depth_m - 1e-9) heap_weight = v[2];
-    r.n_along.emplace_back(v[0] / p.depth_m, v[1] / gamma_d2_w);
-    if (v[0] >= dem.mean_from_m * scale - 1e-9) sum += v[1], sum_down += v[6], ++n;
+  for (const std::vector<double>& v : t.rows) {
+    if (heap_weight < 0.0 && v[at] >= 1.5 * p.depth_m - 1e-9) heap_weight = v[weight];
+    r.n_along.emplace_back(v[at] / p.depth_m, v[draft] / gamma_d2_w);
+    if (v[at] >= dem.mean_from_m * scale - 1e-9) sum += v[draft], sum_down += v[down], ++n;
   }
-  r.heap_d2 = (heap_weight - first_weight) / (gamma_d2_w * p.width_m);
+  const double first_weight = t.rows.empty() ? 0.0 : t.rows.front()[weight];
+  r.heap_d2 = (heap_weight - first_weight) / gamma_d2_w;
   r.up_over_draft = sum > 0.0 ? -sum_down / sum : 0.0;
   r.up_over_draft_equation = -s["reference"]["earthmoving_vertical_down_N"].get<double>() /
                              s["reference"]["earthmoving_N"].get<double>();

@@ -98,7 +98,7 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
       break;
     }
     case io::ScriptPhase::Kind::kTurnTo: {
-      const double e = wrap(p.yaw_deg * kPi / 180.0 - yaw);
+      const double e = wrap(deg_to_rad(p.yaw_deg) - yaw);
       steer(c, 0.0, e);
       c.tilt = tilt_to(s, carry_pitch);
       goal = std::abs(e) < 0.03 && std::abs(s.chassis_angular_velocity_rad_s[2]) < 0.05;
@@ -112,7 +112,7 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
     case io::ScriptPhase::Kind::kAdvanceUntilFull: {
       steer(c, p.speed, 0.0);
       c.lift = lift_to(s, p.cut_lift_rad);
-      c.tilt = tilt_to(s, p.cut_pitch_deg * kPi / 180.0);
+      c.tilt = tilt_to(s, deg_to_rad(p.cut_pitch_deg));
       if (in_phase > 1.5 && speed < 0.05) {
         if (slow_since_s_ < 0.0) slow_since_s_ = t;
       } else {
@@ -128,7 +128,7 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
       goal = std::abs(s.lift_angle_rad - p.angle_rad) < 0.03;
       break;
     case io::ScriptPhase::Kind::kDump: {
-      const double target = p.pitch_deg * kPi / 180.0;
+      const double target = deg_to_rad(p.pitch_deg);
       c.lift = lift_to(s, s.lift_angle_rad);
       c.tilt = tilt_to(s, target, 0.6);
       if (s.bucket_pitch_rad < target + 0.05) {

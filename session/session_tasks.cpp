@@ -50,6 +50,18 @@ constexpr double kInSoilAheadM = 0.1;  // the soil the edge is about to meet: th
 constexpr double kInSoilM = 0.02;      // the soil over the lip by more than this: the bucket is in it (a lip
                                        // riding on the surface is not)
 
+// The middle of the bucket's front edge (its container's lip).
+Eigen::Vector3d lip_of(const terrain::BodyAutomaton& b) {
+  return b.pose() * Eigen::Vector3d(b.shape().length_m, 0.5 * b.shape().width_m, 0.0);
+}
+
+// The largest slip ratio of the machine's wheels.
+double worst_slip_of(const vehicle::Loader& l) {
+  double worst = 0.0;
+  for (const vehicle::WheelState& wheel : l.wheels()) worst = std::max(worst, std::abs(wheel.slip_ratio));
+  return worst;
+}
+
 }  // namespace
 
 void check_tasks(const io::Exercise& ex, const engine::World& world) {
@@ -157,8 +169,7 @@ void SessionTasks::sample_bucket(const engine::World& w, double t) {
   const double bucket_kg = w.bucket_material() ? w.bucket_material()->material_mass_kg() : 0.0;
   // Material leaves over the lip: the middle of the container's front edge.
   Eigen::Vector3d lip_m = l.link_pose(static_cast<int>(l.description().links.size()) - 1).translation();
-  if (const terrain::BodyAutomaton* b = w.bucket_material())
-    lip_m = b->pose() * Eigen::Vector3d(b->shape().length_m, 0.5 * b->shape().width_m, 0.0);
+  if (const terrain::BodyAutomaton* b = w.bucket_material()) lip_m = lip_of(*b);
   const bool out_of_cut = lip_m.z() - ground_height_m(w, lip_m.head<2>()) > kOutOfCutM;
   const double lost = std::max(0.0, last_bucket_kg_ - bucket_kg);
   last_bucket_kg_ = bucket_kg;
@@ -340,8 +351,6 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
   const vehicle::Loader& l = w.loader();
   const vehicle::Loader::AxleLoads axles = l.axle_loads();
   const double rear = axles.rear_N, total = axles.total_N;
-  double worst_slip = 0.0;
-  for (const vehicle::WheelState& wheel : l.wheels()) worst_slip = std::max(worst_slip, std::abs(wheel.slip_ratio));
   // A scare is the rear axle all but unloaded for kTippingHoldS: long
   // enough for the machine to pitch forward, not the bounce of a pivot turn
   // on rough ground. It counts once and re-arms only after the rear axle
@@ -356,7 +365,7 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
   }
   if (tipping_ && rear_loaded_s_ >= kTippingRearmS) tipping_ = false;
   if (l.chassis_velocity().head<2>().norm() < kIdleSpeedMps) metrics_.idle_time_s += dt_s;
-  if (worst_slip > kSlipLimit) metrics_.wheel_slip_time_s += dt_s;
+  if (worst_slip_of(l) > kSlipLimit) metrics_.wheel_slip_time_s += dt_s;
   // Harsh handling: the bucket's centre of mass changing velocity faster
   // than kImpactMps2 over a tick (dropped onto the ground, slammed into a
   // stop or a truck's side); one impact counts once within kEventRearmS.
@@ -401,7 +410,7 @@ void SessionTasks::update_handling(const engine::World& w, double t, double dt_s
 bool SessionTasks::bucket_in_soil(const engine::World& w) const {
   const terrain::BodyAutomaton* b = w.bucket_material();
   if (!w.terrain() || !b) return false;
-  const Eigen::Vector3d lip = b->pose() * Eigen::Vector3d(b->shape().length_m, 0.5 * b->shape().width_m, 0.0);
+  const Eigen::Vector3d lip = lip_of(*b);
   const Eigen::Vector2d forward = (b->pose().linear() * Eigen::Vector3d::UnitX()).head<2>();
   const double n = forward.norm();
   const Eigen::Vector2d ahead = n > 0.0 ? Eigen::Vector2d(lip.head<2>() + kInSoilAheadM / n * forward) : lip.head<2>();
@@ -418,10 +427,8 @@ void SessionTasks::update_stall(const engine::World& w, double t, double dt_s,
   const vehicle::Loader& l = w.loader();
   const Eigen::Vector2d xy = l.link_pose(0).translation().head<2>();
   if (!stall_armed_ && (xy - stall_at_m_).norm() >= kStallRearmM) stall_armed_ = true;
-  double worst_slip = 0.0;
-  for (const vehicle::WheelState& wheel : l.wheels()) worst_slip = std::max(worst_slip, std::abs(wheel.slip_ratio));
   const bool driving = 0.5 * (controls.drive_left + controls.drive_right) > kStallDriveLever;
-  const bool drive_held = l.chassis_velocity().head<2>().norm() < kIdleSpeedMps || worst_slip > kSlipLimit;
+  const bool drive_held = l.chassis_velocity().head<2>().norm() < kIdleSpeedMps || worst_slip_of(l) > kSlipLimit;
   // The implement: some joint asked to move, and none of those asked turning.
   const double levers[2] = {controls.lift, controls.tilt};
   bool asked = false, turning = false;

@@ -154,6 +154,8 @@ class SoilContactModel {
   const SoilMechanics& soil(int index = 0) const { return regions_.at(index).soil; }
   // The soil under a cell (its region's).
   const SoilMechanics& soil_at_cell(int cell) const { return regions_[region_index(cell)].soil; }
+  // The earthmoving equation's soil under a cell (its region's, set once).
+  const CuttingSoil& cutting_soil_at_cell(int cell) const { return regions_[region_index(cell)].cutting; }
   // The largest sinkage (from the undisturbed surface) a load reached at a
   // cell: the start of its reload line.
   double peak_sinkage_m(int cell) const { return peak_.empty() ? 0.0 : peak_[cell]; }

@@ -52,6 +52,19 @@ double minimising_rho(double phi, double depth_over_width) {
 
 }  // namespace
 
+const char* cutting_model_name(CuttingModel model) {
+  return model == CuttingModel::kEarthmoving ? "earthmoving" : "thesis_wedge";
+}
+
+bool cutting_model_from_name(const std::string& name, CuttingModel* model) {
+  for (const CuttingModel m : {CuttingModel::kEarthmoving, CuttingModel::kThesisWedge})
+    if (name == cutting_model_name(m)) {
+      *model = m;
+      return true;
+    }
+  return false;
+}
+
 CuttingSoil cutting_soil(const SoilMechanics& soil, double bulk_density_kg_m3) {
   CuttingSoil c;
   c.unit_weight_N_per_m3 = bulk_density_kg_m3 * kGravity_m_s2;

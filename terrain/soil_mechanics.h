@@ -27,6 +27,11 @@ enum class CuttingModel {
                  // cohesionless soil, Perumpral's side friction
 };
 
+// The names a soil table and the push job give the cutting models
+// ("earthmoving", "thesis_wedge"); false for any other name.
+const char* cutting_model_name(CuttingModel model);
+bool cutting_model_from_name(const std::string& name, CuttingModel* model);
+
 struct SoilMechanics {
   VerticalLoadModel model = VerticalLoadModel::kBekker;
   // The thesis's wedge stays the default until the earthmoving equation is
