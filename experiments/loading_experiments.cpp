@@ -5,6 +5,7 @@
 
 #include "terrain/body_shapes.h"
 #include "terrain/soil_contact.h"
+#include "terrain/wheel_contact.h"
 #include "experiments/translating_body.h"
 
 namespace skidsim::terrain {
@@ -76,6 +77,62 @@ WheelLoadingRun run_rigid_wheel(GranularGrid& grid, const SoilMechanics& soil, d
     grid.step();
   }
   return {layer_top_m - (body.position_m.z() - radius_m), steps * step_dt_s};
+}
+
+SoftWheelRun run_soft_wheel(GranularGrid& grid, const SoilMechanics& soil, double mass_kg, double radius_m,
+                            double width_m, double slip, double speed_m_s, double travel_m, double layer_top_m,
+                            double step_dt_s) {
+  SoilContactModel model(grid, soil);
+  model.set_press_only(0, true);
+  Cylinder rim;
+  rim.radius_m = radius_m;
+  rim.half_width_m = 0.5 * width_m;
+  WheelOnGrid wheel;
+  wheel.shape = {radius_m, width_m, 0.0};
+  WheelContactState state;
+  const bool towed = std::isnan(slip);
+  const double spin_inertia = 0.5 * mass_kg * radius_m * radius_m;
+  double omega = towed ? speed_m_s / radius_m : speed_m_s / (radius_m * (1.0 - slip));
+  double z = layer_top_m + radius_m, vz = 0.0;
+  const Eigen::Vector2d start_m(0.6137, 0.7871);  // off the cell edges
+  const double damping = 1000.0 * soil.damping_kPa_s_per_m;
+  const int steps = static_cast<int>(std::lround(travel_m / speed_m_s / step_dt_s));
+  const int averaged_from = static_cast<int>(0.6 * steps);
+  SoftWheelRun out;
+  for (int step = 0; step < steps; ++step) {
+    const double t = step * step_dt_s;
+    const double x = start_m.x() + speed_m_s * t;
+    wheel.hub_m = {x, start_m.y(), z};
+    const double rolling = omega * radius_m;
+    const double s = (rolling - speed_m_s) / std::max({rolling, speed_m_s, 1e-9});
+    const WheelGridForces f = wheel_on_grid(grid, model, 0, wheel, s, state);
+    // The rut: the wheel's contact map presses the soil it covers.
+    rim.centre_m = wheel.hub_m;
+    BodyMotion motion;
+    motion.reference_point_m = rim.centre_m;
+    motion.linear_velocity_m_s = {speed_m_s, 0.0, vz};
+    motion.angular_velocity_rad_s = {0.0, omega, 0.0};
+    model.interact(0, rim, motion, false);
+    // Vertical: the soil's W with Chrono SCM's viscous part over the
+    // contact, semi-implicit; the spin of a towed wheel under the soil's torque.
+    const double weight = mass_kg * kGravity_m_s2 * std::min(1.0, t / 0.5);
+    const double c = damping * f.contact_length_m * width_m;
+    vz = (mass_kg * vz + step_dt_s * (f.vertical_N - weight)) / (mass_kg + step_dt_s * c);
+    z += step_dt_s * vz;
+    if (towed) omega = std::max(0.0, omega - step_dt_s * f.drive_torque_Nm / spin_inertia);
+    advance_wheel_contact(speed_m_s * step_dt_s, f.contact_length_m, state);
+    grid.step();
+    if (step >= averaged_from) {
+      const double n = steps - averaged_from;
+      out.sinkage_m += (layer_top_m - (z - radius_m)) / n;
+      out.drawbar_pull_N += f.forward_N / n;
+      out.drive_torque_Nm += f.drive_torque_Nm / n;
+      out.slip += s / n;
+      out.vertical_N += f.vertical_N / n;
+    }
+  }
+  out.simulated_s = steps * step_dt_s;
+  return out;
 }
 
 }  // namespace skidsim::terrain

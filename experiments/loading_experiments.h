@@ -50,4 +50,23 @@ struct WheelLoadingRun {
 WheelLoadingRun run_rigid_wheel(GranularGrid& grid, const SoilMechanics& soil, double mass_kg, double radius_m,
                                 double width_m, double speed_m_s, double layer_top_m, double step_dt_s);
 
+// A rigid wheel on `grid` by Wong-Reece (terrain/wheel_contact.h): `mass_kg`
+// on the axle (loaded over 0.5 s), towed or driven at `speed_m_s` along +x
+// for `travel_m`, free to sink. Driven: the spin is held at
+// v / (r (1 - slip)); towed (slip NaN): the wheel spins freely (no torque on
+// the axle, the spin's inertia that of a uniform disc) and finds its own
+// slip. The figures are means over the last 40 % of the travel; the rut is
+// pressed by the wheel's contact map as in sessions.
+struct SoftWheelRun {
+  double sinkage_m = 0.0;        // below the layer's top
+  double drawbar_pull_N = 0.0;   // forwards
+  double drive_torque_Nm = 0.0;  // what the axle supplies
+  double slip = 0.0;             // (r omega - v) / max(r omega, v), measured
+  double vertical_N = 0.0;
+  double simulated_s = 0.0;
+};
+SoftWheelRun run_soft_wheel(GranularGrid& grid, const SoilMechanics& soil, double mass_kg, double radius_m,
+                            double width_m, double slip, double speed_m_s, double travel_m, double layer_top_m,
+                            double step_dt_s);
+
 }  // namespace skidsim::terrain

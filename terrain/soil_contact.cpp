@@ -11,6 +11,7 @@ namespace skidsim::terrain {
 namespace {
 
 constexpr double kFullyCovered = 1.0 - 1e-9;
+constexpr double kPressOnlyCovering = 0.05;  // a wheel's cells it covers by at least this much
 constexpr int kMaxBodyId = 65535;
 
 // Speed of a point along face direction f (+x, -x, +y, -y).
@@ -72,6 +73,16 @@ void SoilContactModel::set_tool_face(int body_id, const Eigen::Vector3d& outward
   if (state.has_tool_face) state.tool_face_normal = outward_normal_world.normalized();
 }
 
+void SoilContactModel::set_press_only(int body_id, bool on) { body_state(body_id).press_only = on; }
+
+bool SoilContactModel::in_contact_map(int body_id, std::uint32_t cell) const {
+  if (body_id < 0 || body_id >= static_cast<int>(bodies_.size()) || !bodies_[body_id].in_contact) return false;
+  const std::vector<CellContact>& cells = bodies_[body_id].map.cells;
+  const auto it = std::lower_bound(cells.begin(), cells.end(), cell,
+                                   [](const CellContact& c, std::uint32_t v) { return c.cell < v; });
+  return it != cells.end() && it->cell == cell;
+}
+
 double SoilContactModel::tool_rake_rad(const BodyState& state, int f) const {
   // The face's angle from the horizontal seen along direction f: its normal
   // leans ahead by atan2(n . D, n_z) from the vertical. McKyes-Ali's
@@ -124,8 +135,11 @@ void SoilContactModel::update_covered(BodyState& state) {
   const std::vector<std::uint32_t>& before = state.covered;
   std::vector<std::uint32_t>& now = state.covered_next;
   now.clear();
+  // A rolling wheel holds up the rut's walls it touches (the soil it is
+  // pressing): its partly covered cells take no avalanche either.
+  const double covering = state.press_only ? kPressOnlyCovering : kFullyCovered;
   for (const CellContact& c : state.next.cells)
-    if (c.covered_fraction >= kFullyCovered) now.push_back(c.cell);
+    if (c.covered_fraction >= covering) now.push_back(c.cell);
   std::size_t n = 0;
   while (k < before.size() || n < now.size()) {
     if (n >= now.size() || (k < before.size() && before[k] < now[n])) {
@@ -545,6 +559,7 @@ BodyReaction SoilContactModel::interact(int body_id, const BodyGeometry& body, c
         direction = f;
       }
     }
+    if (state.press_only) direction = -1;
     const double gained = c.covered_fraction - covered_before;
     // The covered part's level: the part covered before keeps its own; the
     // newly covered part is at the free part's level, or at the underside

@@ -148,9 +148,16 @@ class SoilContactModel {
   // face turned away or overhanging counts as vertical). A body without one
   // pushes with the vertical interfaces of its contact map (5.2.3).
   void set_tool_face(int body_id, const Eigen::Vector3d& outward_normal_world);
+
+  // A rolling wheel (terrain/wheel_contact.h) presses the soil it newly
+  // covers into its rut, as the Wong-Reece theory has it (compaction, or
+  // the incompressible soil's push to the contour), and sweeps none ahead.
+  void set_press_only(int body_id, bool on);
   const std::vector<SlicedCell>& sliced(int body_id) const { return bodies_.at(body_id).sliced; }
 
   const ContactMap& contact_map(int body_id) const { return bodies_.at(body_id).map; }
+  // The cells a body pressed at its last step (none for a body not in contact).
+  bool in_contact_map(int body_id, std::uint32_t cell) const;
   const SoilMechanics& soil(int index = 0) const { return regions_.at(index).soil; }
   // The soil under a cell (its region's).
   const SoilMechanics& soil_at_cell(int cell) const { return regions_[region_index(cell)].soil; }
@@ -159,6 +166,9 @@ class SoilContactModel {
   // The largest sinkage (from the undisturbed surface) a load reached at a
   // cell: the start of its reload line.
   double peak_sinkage_m(int cell) const { return peak_.empty() ? 0.0 : peak_[cell]; }
+  // How far loads have lowered a cell's soil for good (the plastic sinkage
+  // over the whole cell: what its surface shows).
+  double plastic_lowering_m(int cell) const { return plastic_.empty() ? 0.0 : plastic_[cell]; }
 
  private:
   struct BodyState {
@@ -170,6 +180,7 @@ class SoilContactModel {
     bool in_contact = false;
     bool slicing = false;
     Eigen::Vector2d slicing_forward = Eigen::Vector2d::UnitX();
+    bool press_only = false;
     bool has_tool_face = false;
     Eigen::Vector3d tool_face_normal = Eigen::Vector3d::UnitX();
   };

@@ -97,6 +97,10 @@ void validate(const SoilMechanics& s) {
           ">= 0");
   require(s.tool_friction_angle_deg >= 0.0 && s.tool_friction_angle_deg < 60.0, "tool_friction_angle_deg",
           s.tool_friction_angle_deg, "in [0, 60) deg");
+  require(s.wheel_theta_max_c1 >= 0.0 && s.wheel_theta_max_c1 <= 1.0, "wheel_theta_max_c1", s.wheel_theta_max_c1,
+          "in [0, 1]");
+  require(s.wheel_theta_max_c2 >= 0.0 && s.wheel_theta_max_c1 + s.wheel_theta_max_c2 <= 1.0, "wheel_theta_max_c2",
+          s.wheel_theta_max_c2, ">= 0 with c1 + c2 <= 1");
   require(std::isfinite(s.base_stiffness_kPa_per_m) && s.base_stiffness_kPa_per_m > 0.0, "base_stiffness",
           s.base_stiffness_kPa_per_m, "> 0");
 }

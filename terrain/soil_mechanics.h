@@ -57,6 +57,12 @@ struct SoilMechanics {
   double shear_modulus_K_m = 0.025;
   double tool_adhesion_kPa = 0.0;
   double tool_friction_angle_deg = 20.0;
+  // Wheels (terrain/wheel_soil.h): Wong and Reece's angle of the largest
+  // normal stress, theta_m = (c1 + c2 s) theta_1 (1967 part I: c1 ~ 0.4,
+  // c2 ~ 0.15), and Lyasko's slip sinkage (on) or none.
+  double wheel_theta_max_c1 = 0.4;
+  double wheel_theta_max_c2 = 0.15;
+  bool wheel_slip_sinkage = true;
   // Stiffness of the hard base under the soil (a very stiff penalty; the
   // reaction reports it so an engine can apply it implicitly).
   double base_stiffness_kPa_per_m = 1.0e6;
