@@ -143,6 +143,7 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
   }
   const vehicle::LoaderDescription& d = loader_->description();
   soft_.assign(d.wheels.size(), {});
+  wheel_contacts_.assign(d.wheels.size(), {});
   wheel_shapes_.assign(d.wheels.size(), {});
   link_boxes_.clear();
   const int bucket_link = static_cast<int>(d.links.size()) - 1;
@@ -172,8 +173,10 @@ void World::add_soil_site(std::unique_ptr<terrain::GranularGrid> grid, const ter
     for (const vehicle::CollisionBox& b : d.links[l].collision) link_boxes_.push_back({static_cast<int>(l), b, {}});
   }
   body_in_soil_.assign(d.wheels.size() + link_boxes_.size(), false);
-  for (size_t w = 0; w < d.wheels.size(); ++w)
+  for (size_t w = 0; w < d.wheels.size(); ++w) {
     soil_->reserve_body(static_cast<int>(w), std::hypot(2.0 * d.tyre.radius_m, d.tyre.width_m));
+    soil_->set_press_only(static_cast<int>(w), true);
+  }
   for (size_t k = 0; k < link_boxes_.size(); ++k) {
     soil_->reserve_body(static_cast<int>(d.wheels.size() + k), 2.0 * link_boxes_[k].box.half_extents_m.norm());
     resistances_.push_back(std::make_unique<SoilResistance>(&loader_->multibody(), link_boxes_[k].link - 1));
@@ -412,22 +415,41 @@ void World::soil_on_machine() {
     motion.reference_point_m = shape.centre_m;
     motion.linear_velocity_m_s = v_com + omega.cross(shape.centre_m - com);
     motion.angular_velocity_rad_s = omega;
+    // The soil's force by Wong-Reece from the soil ahead (before the
+    // contact map presses this step's rut), at the patch's slip.
+    terrain::WheelOnGrid wheel;
+    wheel.hub_m = shape.centre_m;
+    const Eigen::Vector3d heading = rotation * Eigen::Vector3d::UnitX();
+    wheel.heading = heading.head<2>().norm() > 1e-6 ? Eigen::Vector2d(heading.head<2>().normalized())
+                                                    : Eigen::Vector2d::UnitX();
+    wheel.shape = {d.tyre.radius_m, d.tyre.width_m, d.tyre.ground_pressure_limit_Pa()};
+    const double slip = vehicle::deflection_slip_ratio(d.tyre, loader_->wheels()[w].deflection);
+    const terrain::WheelGridForces f =
+        terrain::wheel_on_grid(*grid_, *soil_, static_cast<int>(w), wheel, slip, wheel_contacts_[w]);
     const terrain::BodyReaction r = soil_on_body(static_cast<int>(w), shape, motion, highest, false);
+    terrain::advance_wheel_contact(motion.linear_velocity_m_s.head<2>().dot(wheel.heading) * kStepSeconds,
+                                   motion.linear_velocity_m_s.head<2>().norm() * kStepSeconds, f.contact_length_m,
+                                   wheel_contacts_[w]);
     vehicle::SoftWheelContact& s = soft_[w];
     s = {};
-    if (r.contact_cells == 0) continue;
+    if (!f.in_soil || r.contact_cells == 0) continue;
+    const terrain::SoilMechanics& soil = soil_->soil_at_cell(f.cell);
+    // A wheel rolling onto the soil from firm ground (or off it) carries on
+    // the soil the share of its contact that lies on soil: the contact map's
+    // area against half the theory's contact (a wheel wholly on soil presses
+    // about the whole of it, so the share is 1 there).
+    const double share = std::min(1.0, r.contact_area_m2 / (0.5 * f.contact_length_m * d.tyre.width_m + 1e-12));
     s.active = true;
-    s.force_N = r.force_N - r.base_force_N;
-    s.torque_Nm = r.torque_Nm - r.base_torque_Nm;
-    s.contact_area_m2 = r.contact_area_m2;
-    s.contact_point_m = r.shear_point_m;
-    const Eigen::Vector2i hub = cell_under(shape.centre_m.x(), shape.centre_m.y());
-    const int ci = std::clamp(hub.x(), 0, grid_->nx() - 1), cj = std::clamp(hub.y(), 0, grid_->ny() - 1);
-    const terrain::SoilMechanics& soil = soil_->soil_at_cell(grid_->index(ci, cj));
+    s.vertical_N = share * f.vertical_N;
+    s.drawbar_pull_N = share * f.forward_N;
+    s.drive_torque_Nm = share * f.drive_torque_Nm;
+    s.contact_area_m2 = share * f.contact_length_m * d.tyre.width_m;
+    s.vertical_damping_N_s_per_m = 1000.0 * soil.damping_kPa_s_per_m * s.contact_area_m2;
+    s.contact_point_m = shape.centre_m - d.tyre.radius_m * Eigen::Vector3d::UnitZ();
     s.shear.cohesion_Pa = 1000.0 * soil.cohesion_kPa;
     s.shear.friction_angle_rad = deg_to_rad(soil.friction_angle_deg);
     s.shear.shear_modulus_K_m = soil.shear_modulus_K_m;
-    s.shear.contact_length_m = r.contact_area_m2 / d.tyre.width_m;
+    s.shear.contact_length_m = f.contact_length_m;
   }
   edge_penetration_N_ = 0.0;
   face_forces_ = {};

@@ -16,6 +16,7 @@
 #include "terrain/granular_grid.h"
 #include "terrain/material_exchange.h"
 #include "terrain/soil_contact.h"
+#include "terrain/wheel_contact.h"
 #include "vehicle/loader.h"
 
 class btBroadphaseInterface;
@@ -192,6 +193,7 @@ class World {
   std::unique_ptr<terrain::GranularGrid> grid_;
   std::unique_ptr<terrain::SoilContactModel> soil_;
   std::vector<vehicle::SoftWheelContact> soft_;
+  std::vector<terrain::WheelContactState> wheel_contacts_;
   std::vector<terrain::Cylinder> wheel_shapes_;
   struct LinkBox {
     int link;

@@ -120,7 +120,7 @@ SoftWheelRun run_soft_wheel(GranularGrid& grid, const SoilMechanics& soil, doubl
     vz = (mass_kg * vz + step_dt_s * (f.vertical_N - weight)) / (mass_kg + step_dt_s * c);
     z += step_dt_s * vz;
     if (towed) omega = std::max(0.0, omega - step_dt_s * f.drive_torque_Nm / spin_inertia);
-    advance_wheel_contact(speed_m_s * step_dt_s, f.contact_length_m, state);
+    advance_wheel_contact(speed_m_s * step_dt_s, speed_m_s * step_dt_s, f.contact_length_m, state);
     grid.step();
     if (step >= averaged_from) {
       const double n = steps - averaged_from;

@@ -493,6 +493,9 @@ void read_tyre(vehicle::TyreParameters& t, const std::string& parameters_path, c
   t.rBy2 = a.number_in("rBy2", 0.0, 100.0);
   t.Cyk = a.number_in("Cyk", 0.1, 3.0);
   t.rolling_resistance = a.number_in("rolling_resistance", 0.0, 0.5);
+  // Optional: without them the tyre is a rigid wheel on soft soil.
+  t.inflation_pressure_Pa = a.number_in_or("inflation_pressure_kPa", 20.0, 1000.0, 0.0) * 1e3;
+  t.carcass_pressure_Pa = a.number_in_or("carcass_pressure_kPa", 0.0, 500.0, 0.0) * 1e3;
   a.reject_unknown();
   a.reject_content();
 }

@@ -91,6 +91,14 @@ SoilTable load_soil_table(const std::string& path) {
     if (cutting.empty()) m.cutting = terrain::CuttingModel::kThesisWedge;
     else if (!terrain::cutting_model_from_name(cutting, &m.cutting))
       fail(path, tm, "attribute 'cutting_model' = \"" + cutting + "\": expected \"earthmoving\" or \"thesis_wedge\"");
+    // Wheels (terrain/wheel_soil.h): Wong and Reece's theta_m coefficients
+    // and the slip sinkage model.
+    m.wheel_theta_max_c1 = t.number_in_or("wheel_theta_max_c1", 0.0, 1.0, m.wheel_theta_max_c1);
+    m.wheel_theta_max_c2 = t.number_in_or("wheel_theta_max_c2", 0.0, 1.0, m.wheel_theta_max_c2);
+    const std::string slip_sinkage = t.text("wheel_slip_sinkage", false);
+    if (slip_sinkage == "none") m.wheel_slip_sinkage = false;
+    else if (slip_sinkage.empty() || slip_sinkage == "lyasko") m.wheel_slip_sinkage = true;
+    else fail(path, tm, "attribute 'wheel_slip_sinkage' = \"" + slip_sinkage + "\": expected \"lyasko\" or \"none\"");
     t.reject_unknown();
     t.reject_content();
     try {

@@ -128,7 +128,7 @@ ReportSection blade_push_section(const ReportContext& ctx);       // perf_report
 ReportSection bcre_section(const ReportContext& ctx);             // perf_ladders_flow.cpp
 ReportSection pile_load_section(const ReportContext& ctx);        // perf_ladders_flow.cpp
 ReportSection plate_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
-ReportSection wheel_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
+ReportSection soft_wheel_section(const ReportContext& ctx);       // perf_wheels.cpp (Wong-Reece wheels)
 ReportSection thesis_tables_section(const ReportContext& ctx);    // perf_thesis_tables.cpp (tables 7.1, 7.4, 7.5)
 ReportSection sessions_section(const ReportContext& ctx);         // perf_sessions.cpp (whole sessions; table 9.3)
 ReportSection level_of_detail_section(const ReportContext& ctx);  // perf_level_of_detail.cpp (a big site at rest)

@@ -64,6 +64,10 @@ void SoilContactModel::reserve_body(int body_id, double diagonal_m) {
   state.next.cells.reserve(cells);
   state.sliced.reserve(cells);
   slots_.reserve(std::max(slots_.capacity(), cells));
+  // A fracture wedge walks at most across the grid.
+  const std::size_t across = static_cast<std::size_t>(std::max(grid_.nx(), grid_.ny())) + 2;
+  wedge_cells_.reserve(across);
+  wedge_area_.reserve(across);
   mapper_.reserve(static_cast<std::size_t>((reach + 1.0) * (reach + 1.0)));
 }
 

@@ -22,6 +22,10 @@ bool cell_at(const GranularGrid& grid, const Eigen::Vector2d& p, int* i, int* j)
 // under 1; a step between cells is not a slope to extrapolate).
 constexpr double kMaxSlope = 1.0;
 
+// The travel over which a wheel takes a new reading of the soil ahead
+// (WheelContactState::SideMemory): a few cm, short against a contact.
+constexpr double kMemoryTravel_m = 0.02;
+
 // A rut's history from how far it lies below the undisturbed surface: the
 // peak sinkage whose plastic part that is (plastic_sinkage_m grows with the
 // peak; bisection). Taken from the cell's lowering, not its recorded peak,
@@ -31,8 +35,8 @@ SoilHistory rut_history(const SoilMechanics& soil, double modulus_Pa, double low
   SoilHistory h;
   if (!(lowering_m > 0.0)) return h;
   h.surface_depth_m = lowering_m;
-  double lo = lowering_m, hi = lowering_m + 1.0;
-  for (int it = 0; it < 50; ++it) {
+  double lo = lowering_m, hi = lowering_m + 0.5;
+  for (int it = 0; it < 26; ++it) {  // to 1e-8 m
     const double m = 0.5 * (lo + hi);
     (plastic_sinkage_m(soil, modulus_Pa, m) < lowering_m ? lo : hi) = m;
   }
@@ -113,6 +117,7 @@ WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& 
   const SoilMechanics& soil = model.soil_at_cell(out.cell);
   const double modulus = bekker_modulus_Pa(soil, wheel.shape.width_m);
   const double r = wheel.shape.radius_m;
+  const double lowest = wheel.hub_m.z() - r;
   // The two sides: forwards (+1) and backwards (-1), each weighted by how
   // much of the load it carries.
   const double weights[2] = {0.5 * (1.0 + state.lead), 0.5 * (1.0 - state.lead)};
@@ -121,13 +126,27 @@ WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& 
     const double sense = side == 0 ? 1.0 : -1.0;
     const Eigen::Vector2d direction = sense * wheel.heading;
     SoilAhead ahead;
-    if (!soil_level_ahead(grid, model, body_id, wheel.hub_m, direction, r, wheel.shape.width_m, &ahead)) continue;
-    const double sinkage = ahead.sinkage_m;
+    WheelContactState::SideMemory& memory = state.side[side];
+    if (!soil_level_ahead(grid, model, body_id, wheel.hub_m, direction, r, wheel.shape.width_m, &ahead)) {
+      memory.set = false;
+      continue;
+    }
+    // Followed over travel (WheelContactState::SideMemory): exact
+    // exponential approach over kMemoryTravel_m of it.
+    const double level = ahead.sinkage_m + lowest;
+    const double lowering = ahead.cell >= 0 ? model.plastic_lowering_m(ahead.cell) : 0.0;
+    if (!memory.set) {
+      memory = {true, level, lowering};
+    } else {
+      const double follow = 1.0 - std::exp(-state.last_moved_m / kMemoryTravel_m);
+      memory.level_m += follow * (level - memory.level_m);
+      memory.lowering_m += follow * (lowering - memory.lowering_m);
+    }
+    const double sinkage = memory.level_m - lowest;
     if (!(sinkage > 0.0)) continue;
     // The soil there: a rut's reload line from the deepest a load pressed
     // it (its spring-back already taken), else virgin soil.
-    const SoilHistory history = ahead.cell >= 0 ? rut_history(soil, modulus, model.plastic_lowering_m(ahead.cell))
-                                                : SoilHistory{};
+    const SoilHistory history = rut_history(soil, modulus, memory.lowering_m);
     const WheelSoilForces f = wong_reece(wheel.shape, soil, sinkage, sense * slip_forward, history);
     const double w = weights[side];
     out.in_soil = true;
@@ -141,7 +160,8 @@ WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& 
   return out;
 }
 
-void advance_wheel_contact(double travel_m, double contact_length_m, WheelContactState& state) {
+void advance_wheel_contact(double travel_m, double moved_m, double contact_length_m, WheelContactState& state) {
+  state.last_moved_m = moved_m;
   if (travel_m == 0.0) return;
   const double target = travel_m > 0.0 ? 1.0 : -1.0;
   const double length = std::max(0.5 * contact_length_m, 1e-3);

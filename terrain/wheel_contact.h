@@ -29,6 +29,18 @@ struct WheelContactState {
   // travel, so a wheel at rest keeps the contact it stopped with (no
   // jitter) and one lowered onto the soil starts level (0).
   double lead = 0.0;
+  // The soil met ahead on either side (forwards, backwards), as read from
+  // the grid and followed over travel: the level of its surface and how far
+  // loads had lowered it. A wheel at rest keeps what it met (the cells at the
+  // edge of its contact change hands step to step; the soil it stands on
+  // does not), a rolling one takes the new reading within a few cm of travel.
+  struct SideMemory {
+    bool set = false;
+    double level_m = 0.0;
+    double lowering_m = 0.0;
+  };
+  SideMemory side[2];
+  double last_moved_m = 0.0;  // the hub's horizontal travel, the last step
 };
 
 struct WheelGridForces {
@@ -65,8 +77,10 @@ bool soil_level_ahead(const GranularGrid& grid, const SoilContactModel& model, i
 WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& model, int body_id,
                               const WheelOnGrid& wheel, double slip_forward, WheelContactState& state);
 
-// Moves the loaded side towards the travel (`travel_m` along the heading
-// this step): exact exponential approach over half the contact length.
-void advance_wheel_contact(double travel_m, double contact_length_m, WheelContactState& state);
+// After the step: moves the loaded side towards the travel (`travel_m`
+// along the heading; exact exponential approach over half the contact
+// length) and notes how far the hub moved over the ground (`moved_m`,
+// horizontally, any direction) for the side memories.
+void advance_wheel_contact(double travel_m, double moved_m, double contact_length_m, WheelContactState& state);
 
 }  // namespace skidsim::terrain

@@ -94,9 +94,11 @@ TEST(LoaderAllocation, SandStepAllocatesNothingOnceWarm) {
 // slices into it, its automaton sweeps, spills fall and land (thesis ch. 6).
 TEST(LoaderAllocation, DiggingStepAllocatesNothingOnceWarm) {
   const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
-  auto grid = engine::flat_soil_grid(sand.flow, 10.0, Eigen::Vector2d(-10.0, -10.0), 20.0, 20.0, 0.5);
+  // A metre of sand: the bucket pressed down never reaches the hard base
+  // (a new Bullet pair with the base allocates each time it is made).
+  auto grid = engine::flat_soil_grid(sand.flow, 10.0, Eigen::Vector2d(-10.0, -10.0), 20.0, 20.0, 1.0);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = Eigen::Vector3d(0.0, -3.0, 0.5 + shipped_loader().tyre.radius_m);
+  pose.translation() = Eigen::Vector3d(0.0, -3.0, 1.0 + shipped_loader().tyre.radius_m);
   engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.03, 0.03);
   w.add_soil_site(std::move(grid), sand.terramechanics);
   // Every 6 s: 3 s with the arm down and the bucket tipped into the sand

@@ -1,14 +1,16 @@
-// The loader on dry sand: wheel sinkage against Bekker's rigid-wheel
-// formula, drawbar pull against Janosi-Hanamoto's slip curve, and the hard
-// cases (a 1 m drop onto sand, a full-speed pivot turn on sand).
+// The loader on dry sand: wheel sinkage and drawbar pull against the
+// Wong-Reece wheel (its closed form), and the hard cases (a 1 m drop onto sand, a full-speed pivot turn on sand).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdio>
 #include <cstring>
 
 #include "common/physical_constants.h"
 #include "engine/soil_site.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
+#include "experiments/wong_reece_closed_form.h"
 
 namespace skidsim::testing {
 namespace {
@@ -35,125 +37,113 @@ std::unique_ptr<engine::World> loader_on_sand(const SandSite& site, Eigen::Vecto
   return w;
 }
 
-// Bekker's rigid-wheel sinkage z0 = [3 W / ((3 - n)(k_c + b k_phi) sqrt(D))]^(2/(2n+1)).
-double bekker_wheel_sinkage(const terrain::SoilMechanics& m, double load_N) {
-  const auto& t = shipped_loader().tyre;
-  const double kc = 1e3 * m.k_c_kN_per_m_n1, kphi = 1e3 * m.k_phi_kN_per_m_n2;
-  return std::pow(3.0 * load_N / ((3.0 - m.n) * (kc + t.width_m * kphi) * std::sqrt(2.0 * t.radius_m)),
-                  2.0 / (2.0 * m.n + 1.0));
-}
-
-struct Sinkage {
-  double front_ratio = 0.0, rear_ratio = 0.0;  // mean sinkage / z0(mean load)
+struct AxleFigures {
+  double load_N = 0.0, slip = 0.0, sinkage_m = 0.0, pull_N = 0.0;  // per wheel, means
 };
 
-// Drives slowly (0.3 m/s) for 6 s to leave the hole it stood in, then
-// averages each axle's load and sinkage below the untouched surface for 10 s.
-Sinkage rolling_sinkage(const SandSite& site) {
+// Drives slowly (levers at `lever`) for 6 s to leave the hole it stood in,
+// then averages each axle's load, slip, sinkage below the untouched surface
+// and pull for 10 s. A hitch pull of `hitch_pull_N` holds it back.
+std::array<AxleFigures, 2> rolling_axles(const SandSite& site, double lever, double hitch_pull_N = 0.0) {
   auto w = loader_on_sand(site);
   vehicle::LoaderControls c;
-  c.drive_left = c.drive_right = 0.1;
-  run_for(*w, c, 6.0);
+  c.drive_left = c.drive_right = lever;
+  const Eigen::Vector3d hitch(-1.35, 0.0, 0.0);
+  const auto step = [&] {
+    const Eigen::Isometry3d chassis = w->loader().link_pose(0);
+    w->loader().add_force(0, -hitch_pull_N * chassis.linear().col(0), chassis * hitch);
+    w->step(c);
+  };
+  for (int s = 0; s < 3000; ++s) step();
   const auto& d = shipped_loader();
-  double load[2] = {0, 0}, sink[2] = {0, 0};
+  std::array<AxleFigures, 2> out{};
   long n = 0;
   for (int s = 0; s < 5000; ++s, ++n) {
-    w->step(c);
+    step();
     for (size_t k = 0; k < d.wheels.size(); ++k) {
-      const int axle = d.wheels[k].hub_m.x() > 0.0 ? 0 : 1;
-      load[axle] += w->loader().wheels()[k].normal_load_N;
-      sink[axle] += kSandDepth - (w->loader().wheel_hub(static_cast<int>(k)).z() - d.tyre.radius_m);
+      AxleFigures& a = out[d.wheels[k].hub_m.x() > 0.0 ? 0 : 1];
+      const vehicle::WheelState& ws = w->loader().wheels()[k];
+      a.load_N += ws.normal_load_N;
+      a.slip += ws.slip_ratio;
+      a.sinkage_m += kSandDepth - (w->loader().wheel_hub(static_cast<int>(k)).z() - d.tyre.radius_m);
+      a.pull_N += ws.longitudinal_force_N;
     }
   }
-  Sinkage out;
-  const double per = 2.0 * n;  // two wheels an axle
-  out.front_ratio = (sink[0] / per) / bekker_wheel_sinkage(site.soil.terramechanics, load[0] / per);
-  out.rear_ratio = (sink[1] / per) / bekker_wheel_sinkage(site.soil.terramechanics, load[1] / per);
+  EXPECT_TRUE(w->events().finite);
+  for (AxleFigures& a : out) {
+    a.load_N /= 2.0 * n;  // two wheels an axle
+    a.slip /= 2.0 * n;
+    a.sinkage_m /= 2.0 * n;
+    a.pull_N /= 2.0 * n;
+  }
   return out;
 }
 
-// Under the formula's own assumptions (the soil does not spring back behind
-// the wheel, the rut's walls stand), the wheels sink as Bekker says, at two
-// cell sizes. The full dry-sand model sinks less, and says why: Wong's
-// unloading line lets the soil behind the bottom push back, and the rut's
-// walls slump in.
-TEST(LoaderSoftSoil, WheelSinkageFollowsBekkersRigidWheelFormula) {
-  for (double cells_per_m : {20.0, 40.0}) {
+// The front wheels roll on untouched sand: their sinkage and pull are the
+// Wong-Reece wheel's at their own load and slip (the closed form,
+// experiments/wong_reece_closed_form.h), at two cell sizes, within 10 % (the pull
+// within 10 % of the load's traction scale, W tan(phi): at small slip it
+// is a difference of two large terms). The rear wheels run in the front
+// wheels' ruts.
+TEST(LoaderSoftSoil, WheelsOnSandFollowWongReece) {
+  const auto& d = shipped_loader();
+  for (const double cells_per_m : {10.0, 20.0}) {
     SandSite site;
     site.cells_per_m = cells_per_m;
-    site.soil.terramechanics.unload_k0_kPa_per_m = 1e7;  // no rebound
-    site.soil.flow.repose_angle_deg = 70.0;              // standing rut walls
-    site.soil.flow.stop_angle_deg = 68.0;
-    const Sinkage s = rolling_sinkage(site);
-    RecordProperty("bekker_assumptions_front_" + std::to_string(static_cast<int>(cells_per_m)), std::to_string(s.front_ratio));
-    RecordProperty("bekker_assumptions_rear_" + std::to_string(static_cast<int>(cells_per_m)), std::to_string(s.rear_ratio));
-    EXPECT_NEAR(s.front_ratio, 1.0, 0.15) << cells_per_m << " cells/m";
-    EXPECT_NEAR(s.rear_ratio, 1.0, 0.15) << cells_per_m << " cells/m";
+    const closed_form::WongReeceSoil ref = closed_form::reference_soil_of(site.soil.terramechanics);
+    const std::array<AxleFigures, 2> axles = rolling_axles(site, 0.15);
+    const AxleFigures& front = axles[0];
+    const double z_ref = closed_form::wong_reece_reference_sinkage(ref, d.tyre.radius_m, d.tyre.width_m, front.load_N, front.slip);
+    const closed_form::WongReeceResult f_ref =
+        closed_form::wong_reece_reference(ref, d.tyre.radius_m, d.tyre.width_m, z_ref, front.slip);
+    std::printf("%2.0f cells/m: front %.0f N at slip %.3f: sinkage %.4f m (Wong-Reece %.4f), pull %+.0f N (%+.0f); "
+                "rear %.0f N at slip %.3f: sinkage %.4f m, pull %+.0f N\n",
+                cells_per_m, front.load_N, front.slip, front.sinkage_m, z_ref, front.pull_N, f_ref.DP,
+                axles[1].load_N, axles[1].slip, axles[1].sinkage_m, axles[1].pull_N);
+    std::printf("   rear on untouched sand would sink %.4f m\n",
+                closed_form::wong_reece_reference_sinkage(ref, d.tyre.radius_m, d.tyre.width_m, axles[1].load_N, axles[1].slip));
+    RecordProperty("front_sinkage_over_wong_reece_" + std::to_string(static_cast<int>(cells_per_m)),
+                   std::to_string(front.sinkage_m / z_ref));
+    EXPECT_NEAR(front.sinkage_m, z_ref, 0.10 * z_ref) << cells_per_m << " cells/m";
+    EXPECT_NEAR(front.pull_N, f_ref.DP, 0.10 * front.load_N * std::tan(ref.phi_rad)) << cells_per_m << " cells/m";
+    // The rear wheels (three times the front's load on the empty machine)
+    // press the rut past its depth: beyond the front's peak the soil is on
+    // its loading curve again, so they sink about as deep as on untouched
+    // sand (Wong's multi-pass), a little less for the reloaded top.
+    const AxleFigures& rear = axles[1];
+    const double z_rear = closed_form::wong_reece_reference_sinkage(ref, d.tyre.radius_m, d.tyre.width_m, rear.load_N, rear.slip);
+    EXPECT_LT(rear.sinkage_m, 1.02 * z_rear) << cells_per_m << " cells/m";
+    EXPECT_GT(rear.sinkage_m, 0.85 * z_rear) << cells_per_m << " cells/m";
   }
-  SandSite site;
-  const Sinkage full = rolling_sinkage(site);
-  RecordProperty("dry_sand_front", std::to_string(full.front_ratio));
-  RecordProperty("dry_sand_rear", std::to_string(full.rear_ratio));
-  EXPECT_NEAR(full.front_ratio, 1.0, 0.25);
-  EXPECT_LT(full.front_ratio, 1.0);  // rebound and slumping only ever carry load
 }
 
 // Drawbar pull against slip: a horizontal pull on the hitch, levers at 0.3,
-// steady state. The tyres' net traction follows Janosi-Hanamoto's curve at
-// the slip measured from wheel and ground speed, and the drawbar pull grows
-// with slip and levels off.
-TEST(LoaderSoftSoil, DrawbarPullAgainstSlipHasJanosiHanamotosShape) {
+// steady state. More pull takes more slip; the front wheels' pull is the
+// Wong-Reece wheel's at their load and slip, within 10 % of the traction
+// scale W tan(phi).
+TEST(LoaderSoftSoil, DrawbarPullAgainstSlipFollowsWongReece) {
   const auto& d = shipped_loader();
-  const double phi = d.tyre.radius_m > 0 ? SandSite().soil.terramechanics.friction_angle_deg * kPi / 180.0 : 0.0;
-  const double c_Pa = 1e3 * SandSite().soil.terramechanics.cohesion_kPa;
-  const double K = SandSite().soil.terramechanics.shear_modulus_K_m;
   std::vector<std::pair<double, double>> pull_vs_slip;
-  for (double pull_kN : {0.0, 2.0, 4.0, 5.0, 6.0}) {
+  for (const double pull_kN : {0.0, 0.7, 1.4, 2.1}) {
     SandSite site;
     site.cells_per_m = 10.0;
     site.length_m = 24.0;
-    auto w = loader_on_sand(site);
-    vehicle::LoaderControls c;
-    c.drive_left = c.drive_right = 0.3;
-    const Eigen::Vector3d hitch(-1.35, 0.0, 0.0);
-    run_for(*w, c, 2.0);
-    double slip = 0.0, traction = 0.0, capacity_weighted = 0.0, strength = 0.0;
-    long n = 0;
-    for (int s = 0; s < 2500; ++s, ++n) {
-      const Eigen::Isometry3d chassis = w->loader().link_pose(0);
-      w->loader().add_force(0, -1e3 * pull_kN * chassis.linear().col(0), chassis * hitch);
-      w->step(c);
-      const double v = w->loader().chassis_velocity().dot(w->loader().link_pose(0).linear().col(0));
-      const double wheel = 0.5 * (w->loader().side_wheel_speed(0) + w->loader().side_wheel_speed(1)) * d.tyre.radius_m;
-      const double i = 1.0 - v / wheel;
-      slip += i;
-      for (const auto& ws : w->loader().wheels()) {
-        traction += ws.longitudinal_force_N;
-        const double Fmax = c_Pa * ws.soil_contact_area_m2 + ws.soil_load_N * std::tan(phi);
-        const double x = i * ws.soil_contact_length_m / K;
-        strength += Fmax;
-        capacity_weighted += Fmax * (x > 1e-9 ? 1.0 - (1.0 - std::exp(-x)) / x : 0.0);
-      }
-    }
-    slip /= n;
-    traction /= n;
-    capacity_weighted /= n;
-    strength /= n;
-    RecordProperty("slip_at_" + std::to_string(static_cast<int>(pull_kN * 10)) + "_hN", std::to_string(slip));
-    // The traction the tyres give is Janosi-Hanamoto's at the kinematic slip.
-    EXPECT_NEAR(traction, capacity_weighted, 0.10 * strength) << pull_kN << " kN";
-    pull_vs_slip.emplace_back(slip, traction);
-    RecordProperty("traction_N_at_" + std::to_string(static_cast<int>(pull_kN * 10)) + "_hN", std::to_string(traction));
-    EXPECT_TRUE(w->events().finite);
+    const closed_form::WongReeceSoil ref = closed_form::reference_soil_of(site.soil.terramechanics);
+    const std::array<AxleFigures, 2> axles = rolling_axles(site, 0.3, 1e3 * pull_kN);
+    const AxleFigures& front = axles[0];
+    const double z_ref = closed_form::wong_reece_reference_sinkage(ref, d.tyre.radius_m, d.tyre.width_m, front.load_N, front.slip);
+    const double dp_ref = closed_form::wong_reece_reference(ref, d.tyre.radius_m, d.tyre.width_m, z_ref, front.slip).DP;
+    std::printf("hitch %.1f kN: front slip %.3f, load %.0f N, sinkage %.4f m (%.4f), pull %+.0f N (Wong-Reece %+.0f), "
+                "rear slip %.3f, pull %+.0f N\n",
+                pull_kN, front.slip, front.load_N, front.sinkage_m, z_ref, front.pull_N, dp_ref, axles[1].slip,
+                axles[1].pull_N);
+    RecordProperty("front_slip_at_" + std::to_string(static_cast<int>(pull_kN * 1000.0)) + "_N", std::to_string(front.slip));
+    EXPECT_NEAR(front.pull_N, dp_ref, 0.10 * front.load_N * std::tan(ref.phi_rad)) << pull_kN << " kN";
+    pull_vs_slip.emplace_back(front.slip, front.pull_N);
   }
-  // More pull, more slip and more traction. (The machine's traction against
-  // slip is not one Janosi curve: as the pull grows the wheels' loads and
-  // contact lengths change. The check above compares each point with
-  // Janosi-Hanamoto at its own loads, lengths and slip.)
-  const auto& p = pull_vs_slip;
-  for (size_t k = 1; k < p.size(); ++k) {
-    EXPECT_GT(p[k].first, p[k - 1].first);
-    EXPECT_GT(p[k].second, p[k - 1].second);
+  for (size_t k = 1; k < pull_vs_slip.size(); ++k) {
+    EXPECT_GT(pull_vs_slip[k].first, pull_vs_slip[k - 1].first);
+    EXPECT_GT(pull_vs_slip[k].second, pull_vs_slip[k - 1].second);
   }
 }
 

@@ -203,13 +203,16 @@ TEST(SoilRegions, EachPartOfTheFootprintFollowsItsOwnSoil) {
 namespace skidsim::terrain {
 namespace {
 
+// The contact map's own pressure under a cylinder (a body the cell-by-cell
+// Bekker model carries; the loader's wheels take the Wong-Reece wheel of
+// terrain/wheel_contact.h instead, tests/terrain_soft_wheel_test.cpp).
 // Bekker's rigid-wheel depth z0 = [3 W / ((3 - n)(k_c + b k_phi) sqrt(D))]
-// ^(2/(2n+1)) (docs/performance.md, "Wheel sinkage") carries the load on the
-// front of the contact only, as for a towed wheel. A wheel standing still is
-// carried by both halves of its contact and sinks 2^(-2/(2n+1)) of z0 (0.65
-// for n = 1.1): that is asserted within 15 %. A towed wheel must sink deeper
-// than a standing one and not beyond z0 + 15 %; measured, it stays 10-24 %
-// short of z0 (the loader issue's wheel-on-soil work takes this up).
+// ^(2/(2n+1)) carries the load on the front of the contact only, as for a
+// towed wheel. A cylinder standing still is carried by both halves of its
+// contact and sinks 2^(-2/(2n+1)) of z0 (0.65 for n = 1.1): that is asserted
+// within 15 %. Towed, it must sink deeper than standing and not beyond
+// z0 + 15 %; measured, it stays 10-24 % short of z0 (the cells' pressure
+// also carries it behind the bottom, where the theory's rear is unloaded).
 struct WheelRun {
   double sinkage_m = 0.0;
 };

@@ -1,6 +1,6 @@
 // A rigid wheel rolling on the terrain grid (terrain/wheel_contact.h,
-// experiments/loading_experiments.h run_soft_wheel) against the tests' own
-// Wong-Reece closed form (tests/wong_reece_reference.h) at 10, 20 and 40
+// experiments/loading_experiments.h run_soft_wheel) against the Wong-Reece
+// closed form (experiments/wong_reece_closed_form.h) at 10, 20 and 40
 // cells/m: sinkage, drawbar pull and torque, towed and driven at slips 0.1,
 // 0.2, 0.4 and 0.6, within 10 %; and the error does not grow as the cells
 // shrink. The wheel: 0.6 m across, 0.3 m wide, 300 kg, in Wong's LLL sand.
@@ -11,7 +11,7 @@
 #include <limits>
 
 #include "experiments/loading_experiments.h"
-#include "tests/wong_reece_reference.h"
+#include "experiments/wong_reece_closed_form.h"
 
 namespace skidsim::terrain {
 namespace {
@@ -20,21 +20,6 @@ constexpr double kDt = 0.002;
 constexpr double kSoilDepth = 0.5;
 constexpr double kRadius = 0.3, kWidth = 0.3, kMass = 300.0;
 
-test::WongReeceSoil reference_soil(const SoilMechanics& s) {
-  test::WongReeceSoil r;
-  r.k_c = 1000.0 * s.k_c_kN_per_m_n1;
-  r.k_phi = 1000.0 * s.k_phi_kN_per_m_n2;
-  r.n = s.n;
-  r.c_Pa = 1000.0 * s.cohesion_kPa;
-  r.phi_rad = deg_to_rad(s.friction_angle_deg);
-  r.K_m = s.shear_modulus_K_m;
-  r.k0_Pa_per_m = 1000.0 * s.unload_k0_kPa_per_m;
-  r.Au_Pa_per_m2 = 1000.0 * s.unload_Au_kPa_per_m2;
-  r.c1 = s.wheel_theta_max_c1;
-  r.c2 = s.wheel_theta_max_c2;
-  r.lyasko = s.wheel_slip_sinkage;
-  return r;
-}
 
 SoftWheelRun run(double cells_per_m, double slip) {
   GridSpec spec;
@@ -51,18 +36,18 @@ double relative(double value, double reference) { return (value - reference) / s
 
 TEST(SoftWheel, MatchesWongReeceTowedAndDrivenAtThreeCellSizes) {
   const SoilMechanics sand;
-  const test::WongReeceSoil ref = reference_soil(sand);
+  const closed_form::WongReeceSoil ref = closed_form::reference_soil_of(sand);
   const double load = kMass * kGravity_m_s2;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double towed_slip = test::wong_reece_reference_towed_slip(ref, kRadius, kWidth, load);
+  const double towed_slip = closed_form::wong_reece_reference_towed_slip(ref, kRadius, kWidth, load);
   double worst_coarsest = -1.0;
   for (const double cells : {10.0, 20.0, 40.0}) {
     double worst = 0.0;
     for (const double slip : {nan, 0.1, 0.2, 0.4, 0.6}) {
       const bool towed = std::isnan(slip);
       const double s_ref = towed ? towed_slip : slip;
-      const double z_ref = test::wong_reece_reference_sinkage(ref, kRadius, kWidth, load, s_ref);
-      const test::WongReeceResult f_ref = test::wong_reece_reference(ref, kRadius, kWidth, z_ref, s_ref);
+      const double z_ref = closed_form::wong_reece_reference_sinkage(ref, kRadius, kWidth, load, s_ref);
+      const closed_form::WongReeceResult f_ref = closed_form::wong_reece_reference(ref, kRadius, kWidth, z_ref, s_ref);
       const SoftWheelRun r = run(cells, slip);
       const double e_z = relative(r.sinkage_m, z_ref);
       // A towed wheel's pull is its rolling resistance; its torque is ~0:

@@ -1,9 +1,9 @@
-// The Wong-Reece wheel (terrain/wheel_soil.h) against the tests' own
-// evaluation of the published integrals (tests/wong_reece_reference.h), its
-// limits (Bekker's rigid-wheel sinkage, the locked and the flattened wheel)
-// and the reload line of a second pass.
+// The Wong-Reece wheel (terrain/wheel_soil.h) against its closed form, the
+// published integrals evaluated apart (experiments/wong_reece_closed_form.h);
+// its limits (Bekker's rigid-wheel sinkage, the locked and the flattened
+// wheel) and the reload line of a second pass.
 #include "terrain/wheel_soil.h"
-#include "tests/wong_reece_reference.h"
+#include "experiments/wong_reece_closed_form.h"
 
 #include <gtest/gtest.h>
 
@@ -13,24 +13,8 @@
 namespace skidsim::terrain {
 namespace {
 
-// Wong's LLL sand (the shipped default) and a cohesive soil (Wong's
-// clayey soil 38 % moisture, soils.xml), in the reference's units.
-test::WongReeceSoil reference_of(const SoilMechanics& s) {
-  test::WongReeceSoil r;
-  r.k_c = 1000.0 * s.k_c_kN_per_m_n1;
-  r.k_phi = 1000.0 * s.k_phi_kN_per_m_n2;
-  r.n = s.n;
-  r.c_Pa = 1000.0 * s.cohesion_kPa;
-  r.phi_rad = deg_to_rad(s.friction_angle_deg);
-  r.K_m = s.shear_modulus_K_m;
-  r.k0_Pa_per_m = 1000.0 * s.unload_k0_kPa_per_m;
-  r.Au_Pa_per_m2 = 1000.0 * s.unload_Au_kPa_per_m2;
-  r.c1 = s.wheel_theta_max_c1;
-  r.c2 = s.wheel_theta_max_c2;
-  r.lyasko = s.wheel_slip_sinkage;
-  return r;
-}
-
+// The soils: Wong's LLL sand (SoilMechanics' default) and a stiff cohesive
+// soil (n 0.11, Wong's figures for a heavy clay).
 SoilMechanics clay() {
   SoilMechanics s;
   s.n = 0.11;
@@ -49,7 +33,7 @@ TEST(WongReece, MatchesTheReferenceIntegralsOverSinkageAndSlip) {
     for (const double z : {0.01, 0.03, 0.08}) {
       for (const double s : {0.0, 0.1, 0.2, 0.4, 0.6, 0.9}) {
         const WheelSoilForces m = wong_reece(kWheel, soil, z, s);
-        const test::WongReeceResult r = test::wong_reece_reference(reference_of(soil), 0.3, 0.3, z, s);
+        const closed_form::WongReeceResult r = closed_form::wong_reece_reference(closed_form::reference_soil_of(soil), 0.3, 0.3, z, s);
         EXPECT_NEAR(m.vertical_N, r.W, 2e-4 * std::abs(r.W)) << "z " << z << " s " << s;
         EXPECT_NEAR(m.drawbar_pull_N, r.DP, 2e-4 * std::abs(r.W)) << "z " << z << " s " << s;
         EXPECT_NEAR(m.drive_torque_Nm, r.T, 2e-4 * std::abs(r.W) * 0.3) << "z " << z << " s " << s;
@@ -63,7 +47,7 @@ TEST(WongReece, SinkageForALoadMatchesTheReference) {
   for (const double load : {1000.0, 3000.0, 6000.0}) {
     for (const double s : {0.0, 0.1, 0.2, 0.4, 0.6}) {
       const double model = wong_reece_sinkage_m(kWheel, sand, load, s);
-      const double ref = test::wong_reece_reference_sinkage(reference_of(sand), 0.3, 0.3, load, s);
+      const double ref = closed_form::wong_reece_reference_sinkage(closed_form::reference_soil_of(sand), 0.3, 0.3, load, s);
       EXPECT_NEAR(model, ref, 1e-3 * ref) << load << " N, s " << s;
     }
   }

@@ -383,7 +383,12 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     Eigen::Vector3d point, normal;
     const bool firm = firm_contact(static_cast<int>(i), chassis, point, normal, penetration);
     const SoftWheelContact* s = soft && soft[i].active ? &soft[i] : nullptr;
-    const double soil_load = s ? std::max(0.0, s->force_N.z()) : 0.0;
+    // The soil's W with its viscous part at the hub's vertical speed, and
+    // the carcass's: the tyre is in series with a soil much stiffer than
+    // itself on a reload line (a rut), so the hub's motion passes through
+    // its damper.
+    const double damping = s ? s->vertical_damping_N_s_per_m + tp.radial_damping_N_s_per_m : 0.0;
+    const double soil_load = s ? std::max(0.0, s->vertical_N - damping * (v_com + omega.cross(p.hub - com)).z()) : 0.0;
     ws.on_ground = firm || soil_load > 0.0;
     ws.soil_sheared = false;
     if (!ws.on_ground) {
@@ -406,16 +411,18 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     p.k.contact_speed_x = v.dot(p.heading);
     p.k.contact_speed_y = v.dot(p.lateral);
     p.k.rolling_speed = side_speed_[d_.wheels[i].side] * p.arm;
-    // Firm ground: Magic Formula on the tyre's radial load. Soil: Janosi
-    // on the soil's load. Both from the same patch deflection, so the sum
-    // changes continuously as the load moves from one to the other.
+    // Firm ground: Magic Formula on the tyre's radial load. Soil: the
+    // Wong-Reece pull and Janosi's side force on the soil's load. Both from
+    // the same patch deflection, so the sum changes continuously as the
+    // load moves from one to the other.
     TyreKinematics firm_k = p.k;
     firm_k.normal_load_N = p.firm_load;
     p.firm = firm_tyre_force(tp, ws.deflection, firm_k);
     if (s) {
       TyreKinematics soil_k = p.k;
       soil_k.normal_load_N = soil_load;
-      const SoilTyreForce sf = soil_tyre_force(tp, ws.deflection, s->shear, soil_k, s->contact_area_m2);
+      const SoilTyreForce sf =
+          soil_tyre_force(tp, ws.deflection, s->shear, soil_k, s->contact_area_m2, s->drawbar_pull_N);
       p.soil = sf.force;
       ws.soil_sheared = sf.at_strength;
     }
@@ -432,10 +439,10 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
     // Rolling resistance on firm ground: a torque on the wheel against its
     // spin (smooth at 0). On soil it is the soil's own (compaction).
     const double spin = std::tanh(p.k.rolling_speed / 0.05);
-    load_torque[d_.wheels[i].side] += p.arm * ws.longitudinal_force_N + tp.rolling_resistance * p.firm_load * p.arm * spin;
-    // The soil's moment about the axle (the pressure's, off the hub) turns
-    // the wheel, not the chassis: it is the drive's load.
-    if (s) load_torque[d_.wheels[i].side] -= s->torque_Nm.dot(axle);
+    load_torque[d_.wheels[i].side] += p.arm * p.firm.longitudinal_N + tp.rolling_resistance * p.firm_load * p.arm * spin;
+    // On soil the drive meets the shear's moment about the axle (Wong-Reece's
+    // T; the normal stresses pass through the axle).
+    if (s) load_torque[d_.wheels[i].side] += s->drive_torque_Nm;
   }
 
   // Drive: each side's wheel speed under its servo and the tyres' torque.
@@ -475,10 +482,10 @@ void Loader::apply_tyres_and_drive(const LoaderControls& c, double dt_s, const S
       body_->addBaseForce(bt(f));
       body_->addBaseTorque(bt(Eigen::Vector3d((wall.point_m - com).cross(f))));
     }
-    if (soft && soft[i].active) {
-      const Eigen::Vector3d off_axle = soft[i].torque_Nm - soft[i].torque_Nm.dot(axle) * axle;
-      body_->addBaseForce(bt(soft[i].force_N));
-      body_->addBaseTorque(bt(Eigen::Vector3d(off_axle + (p.hub - com).cross(soft[i].force_N))));
+    if (ws.soil_load_N > 0.0) {
+      const Eigen::Vector3d up = ws.soil_load_N * Eigen::Vector3d::UnitZ();
+      body_->addBaseForce(bt(up));
+      body_->addBaseTorque(bt(Eigen::Vector3d((p.hub - com).cross(up))));
     }
     if (!ws.on_ground) {
       ws.deflection = {};

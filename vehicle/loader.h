@@ -39,16 +39,21 @@ constexpr int kTyreProbeGroup = 1 << 8;
 constexpr int kAgentCollisionGroup = 1 << 9;  // people on site: detected against the machine only
 
 // What the soil under one wheel does this step (the engine fills it from
-// the terrain's contact model; firm ground is found by Bullet contact tests).
+// the Wong-Reece wheel on the terrain grid, terrain/wheel_contact.h; firm
+// ground is found by Bullet contact tests).
 struct SoftWheelContact {
   bool active = false;  // the wheel touches soil
-  // The soil's pressure on the wheel (Bekker, with its compaction
-  // resistance in the horizontal part), world frame, torque about the hub.
-  Eigen::Vector3d force_N = Eigen::Vector3d::Zero();
-  Eigen::Vector3d torque_Nm = Eigen::Vector3d::Zero();
+  // The soil's force on the wheel at its hub: W along world up (with its
+  // viscous part, per m/s of the hub's vertical speed), the drawbar pull
+  // along the wheel's heading at the deflection's slip, and the torque the
+  // soil resists a forward spin with (the drive's load).
+  double vertical_N = 0.0;
+  double vertical_damping_N_s_per_m = 0.0;
+  double drawbar_pull_N = 0.0;
+  double drive_torque_Nm = 0.0;
   double contact_area_m2 = 0.0;
   Eigen::Vector3d contact_point_m = Eigen::Vector3d::Zero();
-  SoilShear shear;
+  SoilShear shear;  // the lateral shear's (Janosi-Hanamoto over the contact)
 };
 
 struct WheelState {

@@ -119,6 +119,14 @@ struct TyreParameters {
   double rBx1 = 0, rBx2 = 0, Cxa = 1;
   double rBy1 = 0, rBy2 = 0, Cyk = 1;
   double rolling_resistance = 0.0;  // coefficient on firm ground
+  // On soft soil the carcass flattens where the soil would press it harder
+  // than the inflation pressure and the carcass's own stiffness (Wong,
+  // Theory of Ground Vehicles, 2008, 2.7.2, p_i + p_c); 0: a rigid wheel.
+  double inflation_pressure_Pa = 0.0;
+  double carcass_pressure_Pa = 0.0;
+  double ground_pressure_limit_Pa() const {
+    return inflation_pressure_Pa > 0.0 ? inflation_pressure_Pa + carcass_pressure_Pa : 0.0;
+  }
 };
 
 struct Wheel {

@@ -72,24 +72,32 @@ TyreForce firm_tyre_force(const TyreParameters& p, const TyreDeflection& u, cons
 }
 
 SoilTyreForce soil_tyre_force(const TyreParameters& p, const TyreDeflection& u, const SoilShear& soil,
-                              const TyreKinematics& k, double contact_area_m2) {
+                              const TyreKinematics& k, double contact_area_m2, double drawbar_pull_N) {
   SoilTyreForce out;
   const double W = k.normal_load_N;
   if (!(W > 0.0) || !(soil.contact_length_m > 0.0)) return out;
   const double strength = soil.cohesion_Pa * contact_area_m2 + W * std::tan(soil.friction_angle_rad);
-  const double kappa = deflection_slip_ratio(p, u);
-  const double tan_alpha = std::tan(deflection_slip_angle(p, u));
-  const double slip = std::hypot(kappa, tan_alpha);
-  if (slip > 1e-12) {
-    const double x = slip * soil.contact_length_m / soil.shear_modulus_K_m;  // j_max / K
-    // 1 - (1 - e^-x) / x, by its series where x is small (no cancellation).
-    const double mobilised = x < 1e-4 ? 0.5 * x - x * x / 6.0 : 1.0 - (1.0 - std::exp(-x)) / x;
-    out.force.longitudinal_N = strength * mobilised * kappa / slip;
-    out.force.lateral_N = strength * mobilised * tan_alpha / slip;
-    out.at_strength = mobilised > 0.9;
+  const double t = std::tan(deflection_slip_angle(p, u));
+  const double x = std::abs(t) * soil.contact_length_m / soil.shear_modulus_K_m;  // j_max / K
+  // 1 - (1 - e^-x) / x, by its series where x is small (no cancellation).
+  const double mobilised = x < 1e-4 ? 0.5 * x - x * x / 6.0 : 1.0 - (1.0 - std::exp(-x)) / x;
+  out.force.longitudinal_N = drawbar_pull_N;
+  out.force.lateral_N = std::copysign(strength * mobilised, t);
+  out.at_strength = mobilised > 0.9 || std::abs(deflection_slip_ratio(p, u)) > 0.5;
+  // The low-speed damping on the deflection's rate (advance_deflection's
+  // du/dt): it settles the patch's spring and, unlike damping the slip
+  // speed, adds nothing to the steady pull of a slipping wheel (the
+  // Wong-Reece pull already is the soil's whole answer to that slip).
+  const double v = std::abs(k.contact_speed_x);
+  if (v < p.low_speed_m_per_s) {
+    const double w = 0.5 * (1.0 + std::cos(kPi * v / p.low_speed_m_per_s));
+    const double travel = std::max(v, std::abs(k.rolling_speed));
+    const double rate_x = -(k.contact_speed_x - k.rolling_speed) - u.x_m * travel / p.relaxation_x_m;
+    const double rate_y = -k.contact_speed_y - u.y_m * (travel + std::abs(k.contact_speed_y)) / p.relaxation_y_m;
+    out.force.longitudinal_N += w * p.low_speed_damping_N_s_per_m * rate_x;
+    out.force.lateral_N += w * p.low_speed_damping_N_s_per_m * rate_y;
   }
-  add_low_speed_damping(p, k, out.force);
-  cap_force(out.force, strength);
+  out.force.lateral_N = std::clamp(out.force.lateral_N, -strength, strength);
   return out;
 }
 

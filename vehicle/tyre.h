@@ -42,14 +42,17 @@ double deflection_slip_angle(const TyreParameters& p, const TyreDeflection& u);
 // damping that settles a stopped tyre, bounded by friction.
 TyreForce firm_tyre_force(const TyreParameters& p, const TyreDeflection& u, const TyreKinematics& k);
 
-// Soft soil under a tyre: Janosi-Hanamoto shear (Wong, Theory of Ground
-// Vehicles, 2.56 / 2.65): tau = (c + sigma tan phi)(1 - exp(-j / K)), the
-// shear displacement j growing from 0 at the front of the contact to s L at
-// its rear; integrated over the patch,
-//   F = (c A + W tan phi) [1 - K / (s L) (1 - exp(-s L / K))],
-// along the slip (kappa', tan alpha'), s its magnitude. Driven by the same
-// patch deflection as the Magic Formula: continuous across a firm/soft edge
-// and a spring at standstill.
+// Soft soil under a tyre. Along the heading: the wheel's drawbar pull by
+// Wong-Reece (terrain/wheel_soil.h, computed by the engine at the slip
+// deflection_slip_ratio gives: the steady slip of that relaxation is
+// Wong's (r omega - v) / max(r omega, v)). Across it: Janosi-Hanamoto shear
+// (Wong, Theory of Ground Vehicles, 2.56 / 2.65), tau = (c + sigma tan phi)
+// (1 - exp(-j / K)), the shear displacement j growing from 0 at the front of
+// the contact to L tan(alpha') at its rear; integrated over the patch,
+//   F_y = (c A + W tan phi) [1 - K / (t L) (1 - exp(-t L / K))], t = tan alpha',
+// within the soil's strength. Driven by the same patch deflection as the
+// Magic Formula: continuous across a firm/soft edge and a spring at
+// standstill.
 struct SoilShear {
   double cohesion_Pa = 0.0;
   double friction_angle_rad = 0.0;
@@ -59,14 +62,13 @@ struct SoilShear {
 
 struct SoilTyreForce {
   TyreForce force;
-  bool at_strength = false;  // the soil shears (traction near its limit)
+  bool at_strength = false;  // the soil shears (the wheel slips more than half, or the side force is near its bound)
 };
 
 // `k.normal_load_N` is the soil's vertical load on the tyre. The same
-// low-speed damping as on firm ground settles it; the total stays within
-// the soil's strength.
+// low-speed damping as on firm ground settles it.
 SoilTyreForce soil_tyre_force(const TyreParameters& p, const TyreDeflection& u, const SoilShear& soil,
-                              const TyreKinematics& k, double contact_area_m2);
+                              const TyreKinematics& k, double contact_area_m2, double drawbar_pull_N);
 
 // Advances the deflection by dt (exact for frozen velocities, so stable for
 // any step): du_x/dt = -(V_cx - V_r) - u_x max(|V_cx|, |V_r|) / sigma_x,

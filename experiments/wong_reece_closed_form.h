@@ -1,15 +1,18 @@
-// The tests' own closed form of a rigid wheel on virgin soil (Wong and
-// Reece 1967; Wong, "Theory of Ground Vehicles", 2008, 2.7), written apart
-// from terrain/wheel_soil.cpp and evaluated differently: composite Simpson
-// over 4000 panels on each side of theta_m, the stresses written out as
-// published, the equilibrium sinkage by the secant method. It is the
-// independent reference the wheel tests compare the model and the
-// simulated wheels with.
+// The closed form of a rigid wheel on virgin soil (Wong and Reece 1967;
+// Wong, "Theory of Ground Vehicles", 2008, 2.7), kept beside the model as
+// its benchmark: written apart from terrain/wheel_soil.cpp and evaluated
+// differently (composite Simpson over 4000 panels on each side of theta_m,
+// the stresses written out as published, the equilibrium sinkage by the
+// secant method). It is the independent reference the wheel tests and the
+// speed-against-error report compare the model and the simulated wheels
+// with; it shares no code with the model (only the soil table's struct).
 #pragma once
 
 #include <cmath>
 
-namespace skidsim::test {
+#include "terrain/soil_mechanics.h"
+
+namespace skidsim::closed_form {
 
 struct WongReeceSoil {
   double k_c = 0.0, k_phi = 0.0, n = 1.0;  // Bekker p = (k_c / b + k_phi) z^n, Pa and m
@@ -87,7 +90,7 @@ inline double wong_reece_reference_sinkage(const WongReeceSoil& soil, double r, 
 
 }  // namespace skidsim::test
 
-namespace skidsim::test {
+namespace skidsim::closed_form {
 
 // A towed wheel: the slip at which the reference's torque vanishes at the
 // sinkage that carries the load (bisection on s).
@@ -99,6 +102,27 @@ inline double wong_reece_reference_towed_slip(const WongReeceSoil& soil, double 
     (wong_reece_reference(soil, r, b, z, s).T > 0.0 ? hi : lo) = s;
   }
   return 0.5 * (lo + hi);
+}
+
+}  // namespace skidsim::test
+
+namespace skidsim::closed_form {
+
+// The reference's soil from a soil table's (only the parameters, in SI).
+inline WongReeceSoil reference_soil_of(const terrain::SoilMechanics& s) {
+  WongReeceSoil r;
+  r.k_c = 1000.0 * s.k_c_kN_per_m_n1;
+  r.k_phi = 1000.0 * s.k_phi_kN_per_m_n2;
+  r.n = s.n;
+  r.c_Pa = 1000.0 * s.cohesion_kPa;
+  r.phi_rad = s.friction_angle_deg * 3.14159265358979323846 / 180.0;
+  r.K_m = s.shear_modulus_K_m;
+  r.k0_Pa_per_m = 1000.0 * s.unload_k0_kPa_per_m;
+  r.Au_Pa_per_m2 = 1000.0 * s.unload_Au_kPa_per_m2;
+  r.c1 = s.wheel_theta_max_c1;
+  r.c2 = s.wheel_theta_max_c2;
+  r.lyasko = s.wheel_slip_sinkage;
+  return r;
 }
 
 }  // namespace skidsim::test
