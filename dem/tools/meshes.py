@@ -17,6 +17,11 @@ Coordinates are in metres.
       ring 0.15 x 0.15 m (z 0.002..0.24) over a steel plate at z = 0.
   bucket.stl     : open bucket (floor, back, two sides), hinge line on the
       y axis at the top of the back plate.
+  wheel_rim.stl, wheel_sides.stl : rigid wheel, radius 0.15 m, width 0.1 m,
+      axle along y through the origin; the rim (120 facets round, a facet
+      7.9 mm long, about a grain) and the two side discs (steel) that close it.
+  plate_r30.stl, plate_r50.stl : circular sinkage plates of radius 0.03 and
+      0.05 m at z = 0 (Bekker's pressure-sinkage test).
 """
 import math
 import os
@@ -136,6 +141,28 @@ def bucket(width=0.12, floor=0.08, back=0.08):
     return t
 
 
+def wheel_rim(r=0.15, width=0.10, nseg=120):
+    """Cylinder of radius r about the y axis, y = -width/2..width/2; angle a
+    from the downward vertical, x = r sin a, z = -r cos a."""
+    def p(a, y):
+        return [r * math.sin(a), y, -r * math.cos(a)]
+    y0, y1 = -width / 2, width / 2
+    t = []
+    for s in range(nseg):
+        a0, a1 = 2 * math.pi * s / nseg, 2 * math.pi * (s + 1) / nseg
+        t += quad(p(a0, y0), p(a1, y0), p(a1, y1), p(a0, y1))
+    return t
+
+
+def wheel_sides(r=0.15, width=0.10):
+    """The two side discs of the wheel: disc() turned into the x-z plane at y = +-width/2."""
+    t = []
+    for y in (-width / 2, width / 2):
+        for tri in disc(r, nseg=60, nring=8):
+            t.append(tuple([q[0], y, q[1]] for q in tri))
+    return t
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "."
     os.makedirs(out, exist_ok=True)
@@ -156,6 +183,10 @@ def main():
     write_stl(os.path.join(out, "slide_ring.stl"), "slide_ring", box_walls(0, L, 0, L, 0.002, 0.24))
     write_stl(os.path.join(out, "slide_plate.stl"), "slide_plate", flat(-0.06, 0.26, -0.05, 0.20, 0.0))
     write_stl(os.path.join(out, "bucket.stl"), "bucket", bucket())
+    write_stl(os.path.join(out, "wheel_rim.stl"), "wheel_rim", wheel_rim())
+    write_stl(os.path.join(out, "wheel_sides.stl"), "wheel_sides", wheel_sides())
+    for radius_mm in (30, 50):
+        write_stl(os.path.join(out, f"plate_r{radius_mm}.stl"), f"plate_r{radius_mm}", disc(radius_mm / 1000.0, nseg=48, nring=5))
 
 
 if __name__ == "__main__":
