@@ -168,4 +168,14 @@ void advance_wheel_contact(double travel_m, double moved_m, double contact_lengt
   state.lead = target + (state.lead - target) * std::exp(-std::abs(travel_m) / length);
 }
 
+double follow_soil_share(double measured, WheelContactState& state) {
+  if (state.soil_share < 0.0 || measured >= state.soil_share) {
+    state.soil_share = measured;
+  } else {
+    const double follow = 1.0 - std::exp(-state.last_moved_m / kMemoryTravel_m);
+    state.soil_share += follow * (measured - state.soil_share);
+  }
+  return state.soil_share;
+}
+
 }  // namespace skidsim::terrain

@@ -41,6 +41,9 @@ struct WheelContactState {
   };
   SideMemory side[2];
   double last_moved_m = 0.0;  // the hub's horizontal travel, the last step
+  // The share of the contact that lies on soil (follow_soil_share), or -1
+  // while the wheel is off the soil.
+  double soil_share = -1.0;
 };
 
 struct WheelGridForces {
@@ -82,5 +85,17 @@ WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& 
 // length) and notes how far the hub moved over the ground (`moved_m`,
 // horizontally, any direction) for the side memories.
 void advance_wheel_contact(double travel_m, double moved_m, double contact_length_m, WheelContactState& state);
+
+// The share of the wheel's contact that lies on soil, from this step's
+// measure of it (a wheel crossing from firm ground: the contact map's area
+// against the theory's): it rises at once (a wheel lowered or rolled onto the
+// soil) and falls only over travel, the exponential approach of the side
+// memories. A wheel at rest keeps its share: the cells at the edge of its
+// contact change hands step to step and would take a tenth or a fifth of the
+// load off it and put it back (a parked machine shook on a sand slope).
+double follow_soil_share(double measured, WheelContactState& state);
+
+// Off the soil: the next contact starts its share afresh.
+inline void forget_soil_share(WheelContactState& state) { state.soil_share = -1.0; }
 
 }  // namespace skidsim::terrain

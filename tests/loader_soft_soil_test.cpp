@@ -1,8 +1,12 @@
 // The loader on dry sand: wheel sinkage and drawbar pull against the
-// Wong-Reece wheel (its closed form), and the hard cases (a 1 m drop onto sand, a full-speed pivot turn on sand).
+// Wong-Reece wheel (its closed form), the hard cases (a 1 m drop onto sand, a
+// full-speed pivot turn on sand), and standing still on a sand slope and
+// across the edge of firm ground.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -317,6 +321,112 @@ TEST(LoaderSoftSoil, ParkedOnABareSiteBaseStandsStill) {
     }
     EXPECT_LT((w.loader().link_pose(0).translation() - before).norm(), 1e-3) << "offset " << y;
     EXPECT_LT(largest_lateral, 300.0) << "offset " << y;
+  }
+}
+
+// Standing for `seconds` with fixed controls: the chassis's fastest speed and
+// the largest change of a wheel's soil load from one step to the next.
+struct Standing {
+  double fastest_m_s = 0.0, largest_load_step_N = 0.0;
+};
+Standing stand(engine::World& w, const vehicle::LoaderControls& c, double seconds) {
+  Standing out;
+  std::vector<double> before;
+  for (const vehicle::WheelState& ws : w.loader().wheels()) before.push_back(ws.soil_load_N);
+  for (long i = 0; i < std::lround(seconds / engine::kStepSeconds); ++i) {
+    w.step(c);
+    out.fastest_m_s = std::max(out.fastest_m_s, w.loader().chassis_velocity().norm());
+    for (size_t k = 0; k < before.size(); ++k) {
+      const double load = w.loader().wheels()[k].soil_load_N;
+      out.largest_load_step_N = std::max(out.largest_load_step_N, std::abs(load - before[k]));
+      before[k] = load;
+    }
+  }
+  return out;
+}
+
+// A wheel's load standing still changes by less than this a step: a
+// hundredth of the machine's weight on a wheel (the contact's cells changing
+// hands once took 10-20 % of it off and put it back).
+const double kNoJitterLoadStepN = 0.01 * kGravity_m_s2 * shipped_loader().total_mass_kg() / 4.0;
+
+// Parked on a 15 deg sand slope (dry sand stops sliding at 30 deg), facing
+// uphill, downhill and across it: once the wheels have pressed their ruts it
+// stands still, with no creep down the slope and no jitter, the hand-over
+// at standstill the deflection's spring holds (docs/loader.md).
+TEST(LoaderSoftSoil, ParkedOnASandSlopeStandsStillWithoutJitter) {
+  const double slope = deg_to_rad(15.0);
+  const double x_foot = -4.0;  // where the slope starts rising from the sand's depth
+  for (const double yaw_deg : {0.0, 180.0, 90.0}) {
+    SandSite site;
+    site.origin_m = {-5.0, -4.0};
+    site.length_m = 10.0;
+    site.width_m = 8.0;
+    auto grid = engine::flat_soil_grid(site.soil.flow, site.cells_per_m, site.origin_m, site.length_m, site.width_m,
+                                       kSandDepth);
+    for (int j = 0; j < grid->ny(); ++j)
+      for (int i = 0; i < grid->nx(); ++i) {
+        const double x = site.origin_m.x() + i / site.cells_per_m;
+        grid->set_material_m(i, j, kSandDepth + std::max(0.0, x - x_foot) * std::tan(slope));
+      }
+    const Eigen::Vector3d normal(-std::sin(slope), 0.0, std::cos(slope));
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = (Eigen::AngleAxisd(-slope, Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(deg_to_rad(yaw_deg), Eigen::Vector3d::UnitZ()))
+                        .toRotationMatrix();
+    const double surface_at_origin = kSandDepth + (0.0 - x_foot) * std::tan(slope);
+    pose.translation() = Eigen::Vector3d(0.0, 0.0, surface_at_origin) + shipped_loader().tyre.radius_m * normal;
+    engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.2, 0.0);
+    w.add_soil_site(std::move(grid), site.soil.terramechanics);
+    vehicle::LoaderControls c;
+    c.parking_brake = true;
+    run_for(w, c, 4.0);  // the wheels press their ruts and the machine settles into them
+    const Eigen::Vector3d before = w.loader().link_pose(0).translation();
+    const Standing s = stand(w, c, 5.0);
+    const double drift_mm = 1e3 * (w.loader().link_pose(0).translation() - before).norm();
+    std::printf("[ measured ] parked on a 15 deg sand slope, facing %.0f deg from uphill: drift %.3f mm in 5 s, "
+                "fastest %.2e m/s, largest step of a wheel's soil load %.1f N\n", yaw_deg, drift_mm, s.fastest_m_s,
+                s.largest_load_step_N);
+    EXPECT_LT(drift_mm, 1.0) << "facing " << yaw_deg << " deg from uphill";
+    EXPECT_LT(s.fastest_m_s, 1e-3) << "facing " << yaw_deg << " deg from uphill";
+    EXPECT_LT(s.largest_load_step_N, kNoJitterLoadStepN) << "facing " << yaw_deg << " deg from uphill";
+    EXPECT_TRUE(w.events().finite);
+  }
+}
+
+// Parked across the edge of firm ground and sand at one level (front wheels
+// on the firm pad, rear on the sand, and the other way round): the machine's
+// load shares between the Magic Formula's firm contact and the soil, and it
+// stands still without jitter.
+TEST(LoaderSoftSoil, ParkedAcrossTheFirmEdgeStandsStill) {
+  for (const double pad_side : {1.0, -1.0}) {
+    SandSite site;
+    site.origin_m = {-4.0, -3.0};
+    site.length_m = 8.0;
+    site.width_m = 6.0;
+    engine::FirmGround ground;
+    engine::StaticBox pad;  // firm ground level with the sand, its edge at x = 0
+    pad.pose.translation() = Eigen::Vector3d(pad_side * 5.0, 0.0, 0.5 * kSandDepth);
+    pad.half_extents_m = Eigen::Vector3d(5.0, 3.0, 0.5 * kSandDepth);
+    ground.boxes.push_back(pad);
+    auto w = loader_on_sand(site, Eigen::Vector3d::Zero(), ground);
+    vehicle::LoaderControls c;
+    c.parking_brake = true;
+    run_for(*w, c, 4.0);
+    const Eigen::Vector3d before = w->loader().link_pose(0).translation();
+    const Standing s = stand(*w, c, 5.0);
+    double on_soil = 0.0, load = 0.0;
+    for (const vehicle::WheelState& ws : w->loader().wheels()) on_soil += ws.soil_load_N, load += ws.normal_load_N;
+    const double drift_mm = 1e3 * (w->loader().link_pose(0).translation() - before).norm();
+    std::printf("[ measured ] parked across the firm edge (%s on the pad): drift %.3f mm in 5 s, fastest %.2e m/s, "
+                "largest step of a wheel's soil load %.1f N, %.0f %% of the load on the soil\n",
+                pad_side > 0 ? "front" : "rear", drift_mm, s.fastest_m_s, s.largest_load_step_N, 100.0 * on_soil / load);
+    EXPECT_GT(on_soil, 0.2 * load);  // both kinds of ground carry the machine
+    EXPECT_LT(on_soil, 0.8 * load);
+    EXPECT_LT(drift_mm, 1.0);
+    EXPECT_LT(s.fastest_m_s, 1e-3);
+    EXPECT_LT(s.largest_load_step_N, kNoJitterLoadStepN);
+    EXPECT_TRUE(w->events().finite);
   }
 }
 
