@@ -81,18 +81,21 @@ WheelLoadingRun run_rigid_wheel(GranularGrid& grid, const SoilMechanics& soil, d
 
 SoftWheelRun run_soft_wheel(GranularGrid& grid, const SoilMechanics& soil, double mass_kg, double radius_m,
                             double width_m, double slip, double speed_m_s, double travel_m, double layer_top_m,
-                            double step_dt_s) {
+                            double step_dt_s, double rim_friction_angle_rad) {
   SoilContactModel model(grid, soil);
   model.set_press_only(0, true);
   Cylinder rim;
   rim.radius_m = radius_m;
   rim.half_width_m = 0.5 * width_m;
   WheelOnGrid wheel;
-  wheel.shape = {radius_m, width_m, 0.0};
+  wheel.shape = {radius_m, width_m, 0.0, rim_friction_angle_rad};
   WheelContactState state;
   const bool towed = std::isnan(slip);
   const double spin_inertia = 0.5 * mass_kg * radius_m * radius_m;
-  double omega = towed ? speed_m_s / radius_m : speed_m_s / (radius_m * (1.0 - slip));
+  // Driven, r omega = v / (1 - s); braked (s < 0), r omega = v (1 + s): the
+  // slip (r omega - v) / max(r omega, v) the wheel model takes.
+  double omega = towed ? speed_m_s / radius_m
+                       : (slip >= 0.0 ? speed_m_s / (radius_m * (1.0 - slip)) : speed_m_s * (1.0 + slip) / radius_m);
   double z = layer_top_m + radius_m, vz = 0.0;
   const Eigen::Vector2d start_m(0.6137, 0.7871);  // off the cell edges
   const double damping = 1000.0 * soil.damping_kPa_s_per_m;

@@ -8,6 +8,7 @@
 
 #include "terrain/granular_grid.h"
 #include "terrain/soil_mechanics.h"
+#include "terrain/wheel_soil.h"
 
 namespace skidsim::terrain {
 
@@ -53,7 +54,8 @@ WheelLoadingRun run_rigid_wheel(GranularGrid& grid, const SoilMechanics& soil, d
 // A rigid wheel on `grid` by Wong-Reece (terrain/wheel_contact.h): `mass_kg`
 // on the axle (loaded over 0.5 s), towed or driven at `speed_m_s` along +x
 // for `travel_m`, free to sink. Driven: the spin is held at
-// v / (r (1 - slip)); towed (slip NaN): the wheel spins freely (no torque on
+// v / (r (1 - slip)), braked (slip < 0) at v (1 + slip) / r; towed (slip
+// NaN): the wheel spins freely (no torque on
 // the axle, the spin's inertia that of a uniform disc) and finds its own
 // slip. The figures are means over the last 40 % of the travel; the rut is
 // pressed by the wheel's contact map as in sessions.
@@ -65,8 +67,10 @@ struct SoftWheelRun {
   double vertical_N = 0.0;
   double simulated_s = 0.0;
 };
+// `rim_friction_angle_rad`: a smooth rim's friction on the soil
+// (terrain/wheel_soil.h WheelShape; the default, the soil shears).
 SoftWheelRun run_soft_wheel(GranularGrid& grid, const SoilMechanics& soil, double mass_kg, double radius_m,
                             double width_m, double slip, double speed_m_s, double travel_m, double layer_top_m,
-                            double step_dt_s);
+                            double step_dt_s, double rim_friction_angle_rad = WheelShape::kNoRimSlip);
 
 }  // namespace skidsim::terrain

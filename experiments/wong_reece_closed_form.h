@@ -20,6 +20,9 @@ struct WongReeceSoil {
   double k0_Pa_per_m = 1e7, Au_Pa_per_m2 = 5e8;  // Wong's unloading line k_u = k0 + Au z
   double c1 = 0.4, c2 = 0.15;
   bool lyasko = true;  // slip sinkage z = z0 (1 + s) / (1 - 0.5 s)
+  // A smooth rim's friction on the soil: where below phi, the rim slides
+  // first and the shear is the interface's, sigma tan(delta) (no adhesion).
+  double rim_delta_rad = 1.5707963267948966;
 };
 
 struct WongReeceResult {
@@ -52,7 +55,9 @@ inline WongReeceResult wong_reece_reference(const WongReeceSoil& soil, double r,
     // the ground's travel past the wheel, r [(1 + s)(th1 - th) - (sin th1 - sin th)].
     const double j = s >= 0.0 ? r * ((th1 - th) - (1.0 - s) * (std::sin(th1) - std::sin(th)))
                               : r * ((1.0 + s) * (th1 - th) - (std::sin(th1) - std::sin(th)));
-    const double t = (soil.c_Pa + sigma(th) * std::tan(soil.phi_rad)) * (1.0 - std::exp(-std::fabs(j) / soil.K_m));
+    const double strength = soil.rim_delta_rad < soil.phi_rad ? sigma(th) * std::tan(soil.rim_delta_rad)
+                                                               : soil.c_Pa + sigma(th) * std::tan(soil.phi_rad);
+    const double t = strength * (1.0 - std::exp(-std::fabs(j) / soil.K_m));
     return j >= 0.0 ? t : -t;
   };
   WongReeceResult out;
@@ -88,7 +93,7 @@ inline double wong_reece_reference_sinkage(const WongReeceSoil& soil, double r, 
   return z1;
 }
 
-}  // namespace skidsim::test
+}  // namespace skidsim::closed_form
 
 namespace skidsim::closed_form {
 
@@ -104,7 +109,7 @@ inline double wong_reece_reference_towed_slip(const WongReeceSoil& soil, double 
   return 0.5 * (lo + hi);
 }
 
-}  // namespace skidsim::test
+}  // namespace skidsim::closed_form
 
 namespace skidsim::closed_form {
 
@@ -125,4 +130,4 @@ inline WongReeceSoil reference_soil_of(const terrain::SoilMechanics& s) {
   return r;
 }
 
-}  // namespace skidsim::test
+}  // namespace skidsim::closed_form

@@ -1,8 +1,6 @@
 #include "report/dem_blades.h"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -13,38 +11,6 @@
 namespace skidsim::report::perf {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// A CSV of numbers with a header row, read by column name.
-struct CsvNumbers {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  std::size_t column(const std::string& name, const fs::path& path) const {
-    for (std::size_t k = 0; k < header.size(); ++k)
-      if (header[k] == name) return k;
-    throw std::runtime_error("performance report: " + path.string() + " has no column '" + name + "'");
-  }
-};
-
-CsvNumbers read_csv_numbers(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("performance report: cannot read " + path.string());
-  CsvNumbers out;
-  std::string line;
-  std::getline(in, line);
-  for (std::stringstream ss(line); std::getline(ss, line, ',');) out.header.push_back(line);
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::vector<double> v;
-    for (std::stringstream ss(line); std::getline(ss, line, ',');) v.push_back(std::stod(line));
-    if (v.size() < out.header.size()) throw std::runtime_error("performance report: short row in " + path.string());
-    out.rows.push_back(std::move(v));
-  }
-  return out;
-}
-
-}  // namespace
 
 // dem/blade/results/summary.csv, and the heap after 1.5 d of travel from
 // heap_summary.csv beside it (dem/tools/heap.py).

@@ -161,6 +161,7 @@ int write_perf_report(const PerfReportJob& job) {
       {"pressure under a pile", perf::pile_load_section},
       {"plate sinkage", perf::plate_sinkage_section},
       {"wheels on soft soil", perf::soft_wheel_section},
+      {"wheels against the DEM", perf::wheels_dem_section},
       {"thesis tables 7.1, 7.4, 7.5", perf::thesis_tables_section},
       {"whole sessions, table 9.3", perf::sessions_section},
       {"level of detail", perf::level_of_detail_section},

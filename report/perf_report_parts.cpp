@@ -15,6 +15,29 @@ nlohmann::json read_summary(const std::filesystem::path& dir) {
   return nlohmann::json::parse(in);
 }
 
+std::size_t CsvNumbers::column(const std::string& name, const std::filesystem::path& path) const {
+  for (std::size_t k = 0; k < header.size(); ++k)
+    if (header[k] == name) return k;
+  throw std::runtime_error("performance report: " + path.string() + " has no column '" + name + "'");
+}
+
+CsvNumbers read_csv_numbers(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("performance report: cannot read " + path.string());
+  CsvNumbers out;
+  std::string line;
+  std::getline(in, line);
+  for (std::stringstream ss(line); std::getline(ss, line, ',');) out.header.push_back(line);
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::vector<double> v;
+    for (std::stringstream ss(line); std::getline(ss, line, ',');) v.push_back(std::stod(line));
+    if (v.size() < out.header.size()) throw std::runtime_error("performance report: short row in " + path.string());
+    out.rows.push_back(std::move(v));
+  }
+  return out;
+}
+
 std::string fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);

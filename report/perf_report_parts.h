@@ -105,6 +105,16 @@ class LadderBudget {
   bool stopped_ = false;
 };
 
+// A CSV of numbers with a header row (the DEM reference's results), read by
+// column name; column() throws naming the file and column when it is missing.
+struct CsvNumbers {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  std::size_t column(const std::string& name, const std::filesystem::path& path) const;
+};
+// Throws std::runtime_error naming the file when it cannot be read or a row is short.
+CsvNumbers read_csv_numbers(const std::filesystem::path& path);
+
 // A job's summary.json in `dir`; throws naming the folder when it is missing.
 nlohmann::json read_summary(const std::filesystem::path& dir);
 
@@ -129,6 +139,7 @@ ReportSection bcre_section(const ReportContext& ctx);             // perf_ladder
 ReportSection pile_load_section(const ReportContext& ctx);        // perf_ladders_flow.cpp
 ReportSection plate_sinkage_section(const ReportContext& ctx);    // perf_ladders_contact.cpp
 ReportSection soft_wheel_section(const ReportContext& ctx);       // perf_wheels.cpp (Wong-Reece wheels)
+ReportSection wheels_dem_section(const ReportContext& ctx);       // perf_wheels_dem.cpp (wheels against the DEM reference)
 ReportSection thesis_tables_section(const ReportContext& ctx);    // perf_thesis_tables.cpp (tables 7.1, 7.4, 7.5)
 ReportSection sessions_section(const ReportContext& ctx);         // perf_sessions.cpp (whole sessions; table 9.3)
 ReportSection level_of_detail_section(const ReportContext& ctx);  // perf_level_of_detail.cpp (a big site at rest)

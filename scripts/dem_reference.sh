@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
-# DEM reference for the earthmoving equation (issue "Digging forces by the earthmoving
-# equation, checked against a DEM reference"): installs LIGGGHTS if missing, regenerates the
-# meshes, runs every deck of dem/ in order (calibration, bed, blade runs, bucket) and
-# post-processes them into the committed CSVs. See dem/README.md.
+# DEM reference for the earthmoving equation and for wheels on soft soil: installs LIGGGHTS if
+# missing, regenerates the meshes, runs every deck of dem/ in order (calibration, bed, blade
+# runs, bucket; the wheel bed, its sinkage plates and the wheel runs) and post-processes them
+# into the committed CSVs. See dem/README.md.
 #
-#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide bed blade bucket post
-#                                            (default: all, in that order); optional stage
-#                                            "wide": the deep vertical cut in a 0.5 m wide bin
-#                                            (its own bed, about 25 min more), then "post"
+#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide bed blade bucket
+#                                            wheel_bed plate wheel post wheel_post (default: all,
+#                                            in that order); optional stage "wide": the deep vertical
+#                                            cut in a 0.5 m wide bin (its own bed, about 25 min
+#                                            more), then "post"
 #   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
 #
-# Takes about an hour on one core (see dem/results_meta.csv). Never run in CI.
+# Takes about three hours on one core (see dem/results_meta.csv). Never run in CI.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -29,7 +30,15 @@ PY=${PYTHON:-python3}
 
 mkdir -p "$SCRATCH" "$TIMES"
 rm -f "$SCRATCH"/failed.*
-mkdir -p "$SCRATCH/pile" "$SCRATCH/shear" "$SCRATCH/slide" "$SCRATCH/blade" "$SCRATCH/bucket"
+mkdir -p "$SCRATCH/pile" "$SCRATCH/shear" "$SCRATCH/slide" "$SCRATCH/slide_rim" "$SCRATCH/blade" "$SCRATCH/bucket" \
+  "$SCRATCH/wheel"
+
+# The DEM wheel's load (N): chosen from the plate tests' Bekker parameters so that the
+# Wong-Reece closed form sinks the towed wheel 0.07 of its diameter and its largest pressure
+# stays inside the plates' calibrated range (dem/README.md).
+WHEEL_LOAD_N=${WHEEL_LOAD_N:-150}
+# The wheel runs: towed (free to spin) and driven or braked at these slips.
+WHEEL_SLIPS=(0.10 0.20 0.40 0.60 -0.30)
 
 # rel PATH DIR: PATH relative to DIR. LIGGGHTS 3.8.0 (Debian) was seen to abort at random,
 # without a message, while importing a servo mesh when the command line held long absolute
@@ -89,6 +98,12 @@ stage_slide() {
     run_deck "slide_$sn" "$c" sliding_plate.in -var sn "$sn" -var meshdir "$(rel "$MESHES" "$c")" \
       -var out "$(rel "$SCRATCH/slide/slide_$sn.txt" "$c")" &
   done
+  # the wheel rim's material (type 3) on the soil, at the wheel's stresses
+  for sn in 10000 20000; do
+    throttle
+    run_deck "slide_rim_$sn" "$c" sliding_plate.in -var sn "$sn" -var ptype 3 -var meshdir "$(rel "$MESHES" "$c")" \
+      -var out "$(rel "$SCRATCH/slide_rim/slide_rim_$sn.txt" "$c")" &
+  done
 }
 
 stage_bed() {
@@ -126,6 +141,49 @@ stage_wide() {
     -var out "$(rel "$w/blade_a90_d70mm.txt" "$b")" -var heap "$(rel "$w/heap_a90_d70mm.dump" "$b")" &
 }
 
+stage_wheel_bed() {
+  throttle
+  run_deck wheel_bed "$DEM/blade" bed.in -var Lx 0.70 -var scratch "$(rel "$SCRATCH/wheel" "$DEM/blade")" &
+  wait_ok  # the plates and the wheel runs start from its restart
+}
+
+stage_plate() {
+  local r w="$DEM/wheel"
+  for r in 30 50; do
+    throttle
+    run_deck "plate_r$r" "$w" plate.in -var R "0.0$r" -var scratch "$(rel "$SCRATCH/wheel" "$w")" \
+      -var meshdir "$(rel "$MESHES" "$w")" -var out "$(rel "$SCRATCH/wheel/plate_r$r.txt" "$w")" &
+  done
+}
+
+stage_wheel() {
+  local s w="$DEM/wheel"
+  throttle
+  run_deck wheel_towed "$w" wheel.in -var towed 1 -var W "$WHEEL_LOAD_N" -var scratch "$(rel "$SCRATCH/wheel" "$w")" \
+    -var meshdir "$(rel "$MESHES" "$w")" -var out "$(rel "$SCRATCH/wheel/wheel_towed.csv" "$w")" &
+  for s in "${WHEEL_SLIPS[@]}"; do
+    throttle
+    run_deck "wheel_s$s" "$w" wheel.in -var slip "$s" -var W "$WHEEL_LOAD_N" \
+      -var scratch "$(rel "$SCRATCH/wheel" "$w")" -var meshdir "$(rel "$MESHES" "$w")" \
+      -var out "$(rel "$SCRATCH/wheel/wheel_s$s.csv" "$w")" &
+  done
+}
+
+# The wheel's soil and runs: Janosi's K from the shear box's curves, the rim's friction from
+# its sliding plate, Bekker's and the unloading line's parameters from the plates, the wheel
+# runs' steady means.
+stage_wheel_post() {
+  wait_ok
+  local res="$DEM/wheel/results" cal="$DEM/calibration/results"
+  mkdir -p "$res"
+  "$PY" "$DEM/tools/janosi.py" "$cal/shear_curves.csv" "$cal/janosi.csv"
+  "$PY" "$DEM/tools/slide.py" "$cal/sliding_plate_rim.csv" "$SCRATCH"/slide_rim/slide_rim_*.txt
+  cp "$SCRATCH/wheel/bed.csv" "$res/bed.csv"
+  "$PY" "$DEM/tools/plate_post.py" "$res" "$SCRATCH"/wheel/plate_r*.txt
+  "$PY" "$DEM/tools/wheel_post.py" "$res" "$res/bekker.csv" "$cal/sliding_plate_rim.csv" "$SCRATCH"/wheel/wheel_*.csv
+  write_meta
+}
+
 stage_post() {
   wait_ok
   local cal="$DEM/calibration/results"
@@ -141,19 +199,32 @@ stage_post() {
   if [[ -f "$SCRATCH/wide/blade_a90_d70mm.txt" ]]; then
     "$PY" "$DEM/tools/blade_post.py" "$DEM/blade/results/wide_bin" "$DEM/calibration/material.csv" "$SCRATCH/wide"
   fi
-  # LIGGGHTS version and the wall time per deck
-  local version
+  write_meta
+}
+
+# dem/results_meta.csv: the LIGGGHTS version and the wall time of each deck; decks not run this
+# time keep their rows.
+write_meta() {
+  local version meta="$DEM/results_meta.csv" f deck rest
   version=$(dpkg-query -W -f='${Version}' liggghts 2>/dev/null || echo unknown)
   {
     echo "deck,wall_s,liggghts_version,date"
-    for f in "$TIMES"/*; do
-      echo "$(cat "$f"),$version,$(date -u -r "$f" +%Y-%m-%dT%H:%M:%SZ)"
-    done
-  } > "$DEM/results_meta.csv"
+    {
+      for f in "$TIMES"/*; do
+        [[ -f $f ]] && echo "$(cat "$f"),$version,$(date -u -r "$f" +%Y-%m-%dT%H:%M:%SZ)"
+      done
+      if [[ -f $meta ]]; then
+        tail -n +2 "$meta" | while IFS=, read -r deck rest; do
+          [[ -f "$TIMES/$deck" ]] || echo "$deck,$rest"
+        done
+      fi
+    } | sort
+  } > "$meta.tmp"
+  mv "$meta.tmp" "$meta"
 }
 
 stages=("$@")
-((${#stages[@]})) || stages=(meshes pile shear slide bed blade bucket post)
+((${#stages[@]})) || stages=(meshes pile shear slide bed blade bucket wheel_bed plate wheel post wheel_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done

@@ -113,8 +113,10 @@ WheelSoilForces wong_reece(const WheelShape& wheel, const SoilMechanics& soil, d
   c.r = r;
   c.width = wheel.width_m;
   c.modulus = bekker_modulus_Pa(soil, wheel.width_m);
-  c.cohesion = 1000.0 * soil.cohesion_kPa;
-  c.tan_phi = std::tan(deg_to_rad(soil.friction_angle_deg));
+  // The weaker of the soil and the rim-soil interface shears (WheelShape).
+  const bool rim_slides = deg_to_rad(soil.friction_angle_deg) > wheel.rim_friction_angle_rad;
+  c.cohesion = rim_slides ? 0.0 : 1000.0 * soil.cohesion_kPa;
+  c.tan_phi = std::tan(rim_slides ? wheel.rim_friction_angle_rad : deg_to_rad(soil.friction_angle_deg));
   c.K = soil.shear_modulus_K_m;
   // The faster surface's clock (the rim's when driven, the ground's when braked).
   c.rim_clock = s >= 0.0 ? 1.0 : 1.0 + s;

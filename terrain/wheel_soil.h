@@ -18,6 +18,7 @@
 //     W  = r b_w Int (sigma cos theta + tau sin theta) dtheta   (up)
 //     DP = r b_w Int (tau cos theta - sigma sin theta) dtheta   (forward)
 //     T  = r^2 b_w Int tau dtheta  (the torque the drive must supply)
+//   a smooth rim: c and tan(phi) no more than the interface's 0 and tan(delta)
 //
 // Slip s = (r omega - v) / max(r omega, v): Wong's slip i = 1 - v / (r omega)
 // when driven (0..1), minus the skid 1 - r omega / v when braked (-1..0).
@@ -42,10 +43,18 @@ struct SoilHistory {
 // inflation and carcass pressures (Wong 2008, sec. 2.7.2): the flat bottom
 // stands at the sinkage where the soil's pressure is p_i + p_c. Zero: a
 // rigid wheel.
+//
+// The rim's grip on the soil: a lugged tyre (or a rim coated with the soil)
+// shears the soil itself, tau_max = c + sigma tan(phi); a smooth rim slides
+// on it first where its friction is the lower, tau_max = sigma tan(delta)
+// (Wong 2008, 2.7: the shear parameters are those of the wheel-soil
+// interface where it is the weaker), with the soil's K.
 struct WheelShape {
   double radius_m = 0.0;
   double width_m = 0.0;
   double ground_pressure_limit_Pa = 0.0;  // p_i + p_c; 0 for a rigid wheel
+  double rim_friction_angle_rad = kNoRimSlip;  // delta of the rim on the soil
+  static constexpr double kNoRimSlip = 0.5 * kPi;  // the soil shears first (a lugged tyre)
 };
 
 struct WheelSoilForces {

@@ -109,6 +109,32 @@ TEST(WongReece, ALockedWheelResistsWithAtMostTheSoilsStrength) {
   EXPECT_LT(std::abs(f.drawbar_pull_N), f.shear_strength_N + 0.5 * f.vertical_N);  // plus compaction resistance
 }
 
+// A smooth rim (WheelShape::rim_friction_angle_rad) slides on the soil
+// before the soil shears where its friction is the lower: the model meets
+// the closed form with the interface's friction; a rim gripping at least as
+// well as the soil's own friction changes nothing; and a smooth rim pulls
+// less than a lugged one at every slip.
+TEST(WongReece, ASmoothRimShearsAtTheInterfacesFriction) {
+  const SoilMechanics sand;  // phi 28 deg
+  closed_form::WongReeceSoil ref = closed_form::reference_soil_of(sand);
+  WheelShape smooth = kWheel;
+  smooth.rim_friction_angle_rad = deg_to_rad(20.0);
+  ref.rim_delta_rad = smooth.rim_friction_angle_rad;
+  WheelShape grippy = kWheel;
+  grippy.rim_friction_angle_rad = deg_to_rad(35.0);
+  for (const double z : {0.02, 0.06}) {
+    for (const double s : {-0.3, 0.1, 0.4}) {
+      const WheelSoilForces m = wong_reece(smooth, sand, z, s);
+      const closed_form::WongReeceResult r = closed_form::wong_reece_reference(ref, 0.3, 0.3, z, s);
+      EXPECT_NEAR(m.drawbar_pull_N, r.DP, 2e-4 * std::abs(r.W)) << "z " << z << " s " << s;
+      EXPECT_NEAR(m.drive_torque_Nm, r.T, 2e-4 * std::abs(r.W) * 0.3) << "z " << z << " s " << s;
+      const WheelSoilForces lugged = wong_reece(kWheel, sand, z, s);
+      EXPECT_EQ(wong_reece(grippy, sand, z, s).drawbar_pull_N, lugged.drawbar_pull_N);
+      EXPECT_LT(std::abs(m.drive_torque_Nm), std::abs(lugged.drive_torque_Nm));
+    }
+  }
+}
+
 // Wong (2008) 2.7.2: a tyre whose inflation and carcass pressures are below
 // the soil's pressure under the rigid wheel flattens; its flat bottom
 // stands at the sinkage where the soil's pressure equals them, and the
