@@ -26,6 +26,12 @@ constexpr double kMaxSlope = 1.0;
 // (WheelContactState::SideMemory): a few cm, short against a contact.
 constexpr double kMemoryTravel_m = 0.02;
 
+// A step's travel under which a wheel stands still for its memories.
+constexpr double kStandingStill_m = 1e-6;
+
+// The share of the load under which a side of the contact is left out.
+constexpr double kNegligibleSide = 1e-3;
+
 // A rut's history from how far it lies below the undisturbed surface: the
 // peak sinkage whose plastic part that is (plastic_sinkage_m grows with the
 // peak; bisection). Taken from the cell's lowering, not its recorded peak,
@@ -35,12 +41,25 @@ SoilHistory rut_history(const SoilMechanics& soil, double modulus_Pa, double low
   SoilHistory h;
   if (!(lowering_m > 0.0)) return h;
   h.surface_depth_m = lowering_m;
+  // Newton's method on z_max - p / k_u = lowering (p = k z^n, k_u = k0 +
+  // A_u z), from the lowering plus its elastic part, kept inside the
+  // bracket [lowering, lowering + 0.5 m] by bisection where a step leaves it.
   double lo = lowering_m, hi = lowering_m + 0.5;
-  for (int it = 0; it < 26; ++it) {  // to 1e-8 m
-    const double m = 0.5 * (lo + hi);
-    (plastic_sinkage_m(soil, modulus_Pa, m) < lowering_m ? lo : hi) = m;
+  double m = std::min(hi, lowering_m + bekker_loading(modulus_Pa, soil.n, lowering_m).pressure_Pa /
+                                           unload_stiffness_Pa_per_m(soil, lowering_m));
+  for (int it = 0; it < 60; ++it) {
+    const PressureSlope p = bekker_loading(modulus_Pa, soil.n, m);
+    const double k_u = unload_stiffness_Pa_per_m(soil, m);
+    const double f = m - p.pressure_Pa / k_u - lowering_m;
+    (f < 0.0 ? lo : hi) = m;
+    const double dk_u = 1000.0 * soil.unload_Au_kPa_per_m2;
+    const double df = 1.0 - (p.slope_Pa_per_m * k_u - p.pressure_Pa * dk_u) / (k_u * k_u);
+    double next = df > 0.0 ? m - f / df : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - m) < 1e-12) break;
+    m = next;
   }
-  h.peak_sinkage_m = hi;
+  h.peak_sinkage_m = m;
   return h;
 }
 
@@ -120,27 +139,41 @@ WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& 
   const double lowest = wheel.hub_m.z() - r;
   // The two sides: forwards (+1) and backwards (-1), each weighted by how
   // much of the load it carries.
-  const double weights[2] = {0.5 * (1.0 + state.lead), 0.5 * (1.0 - state.lead)};
+  // A side carrying under kNegligibleSide of it is left out (its memory
+  // forgotten), the other taking the whole: a wheel rolling steadily one
+  // way evaluates one side (the load moves by under 0.1 % of the
+  // difference between the sides' as it goes).
+  double weights[2] = {0.5 * (1.0 + state.lead), 0.5 * (1.0 - state.lead)};
+  for (int side = 0; side < 2; ++side)
+    if (weights[side] < kNegligibleSide) weights[side] = 0.0, weights[1 - side] = 1.0;
   for (int side = 0; side < 2; ++side) {
-    if (!(weights[side] > 0.0)) continue;
-    const double sense = side == 0 ? 1.0 : -1.0;
-    const Eigen::Vector2d direction = sense * wheel.heading;
-    SoilAhead ahead;
-    WheelContactState::SideMemory& memory = state.side[side];
-    if (!soil_level_ahead(grid, model, body_id, wheel.hub_m, direction, r, wheel.shape.width_m, &ahead)) {
-      memory.set = false;
+    if (!(weights[side] > 0.0)) {
+      state.side[side].set = false;
       continue;
     }
-    // Followed over travel (WheelContactState::SideMemory): exact
-    // exponential approach over kMemoryTravel_m of it.
-    const double level = ahead.sinkage_m + lowest;
-    const double lowering = ahead.cell >= 0 ? model.plastic_lowering_m(ahead.cell) : 0.0;
-    if (!memory.set) {
-      memory = {true, level, lowering};
-    } else {
-      const double follow = 1.0 - std::exp(-state.last_moved_m / kMemoryTravel_m);
-      memory.level_m += follow * (level - memory.level_m);
-      memory.lowering_m += follow * (lowering - memory.lowering_m);
+    const double sense = side == 0 ? 1.0 : -1.0;
+    const Eigen::Vector2d direction = sense * wheel.heading;
+    WheelContactState::SideMemory& memory = state.side[side];
+    // A wheel standing still (under a micrometre a step: it would follow a
+    // new reading by under 1/20000 of the difference) keeps its memory
+    // without reading the grid again.
+    if (!memory.set || state.last_moved_m >= kStandingStill_m) {
+      SoilAhead ahead;
+      if (!soil_level_ahead(grid, model, body_id, wheel.hub_m, direction, r, wheel.shape.width_m, &ahead)) {
+        memory.set = false;
+        continue;
+      }
+      // Followed over travel (WheelContactState::SideMemory): exact
+      // exponential approach over kMemoryTravel_m of it.
+      const double level = ahead.sinkage_m + lowest;
+      const double lowering = ahead.cell >= 0 ? model.plastic_lowering_m(ahead.cell) : 0.0;
+      if (!memory.set) {
+        memory = {true, level, lowering};
+      } else {
+        const double follow = 1.0 - std::exp(-state.last_moved_m / kMemoryTravel_m);
+        memory.level_m += follow * (level - memory.level_m);
+        memory.lowering_m += follow * (lowering - memory.lowering_m);
+      }
     }
     const double sinkage = memory.level_m - lowest;
     if (!(sinkage > 0.0)) continue;

@@ -42,29 +42,33 @@ const GaussLegendre& gauss() {
 struct Contact {
   double r = 0.0, width = 0.0;
   double theta1 = 0.0, theta2 = 0.0, thetam = 0.0;
+  double cos_theta1 = 1.0, sin_theta1 = 0.0;
   double modulus = 0.0;
   double cohesion = 0.0, tan_phi = 0.0, K = 0.0;
   double rim_clock = 1.0, ground_clock = 1.0;  // a and b of the shear displacement
   double flat_depth = 0.0;                     // the flattened bottom's depth below the entry surface
   SoilHistory history;
+  double peak_pressure = 0.0, reload_stiffness = 0.0;  // a rut's: p(z_peak) and k_u, computed once
   const SoilMechanics* soil = nullptr;
 };
 
 // The soil's pressure at depth `d` below the surface ahead: its loading
-// curve, or the reload line of a rut (soil_mechanics.h).
+// curve, or the reload line of a rut (soil_mechanics.h bekker_pressure,
+// with the peak's pressure and k_u computed once per evaluation).
 double pressure_at_depth(const Contact& c, double d) {
   if (!(d > 0.0)) return 0.0;
   const double depth = c.history.surface_depth_m + std::min(d, c.flat_depth);
-  return bekker_pressure(*c.soil, c.modulus, c.history.peak_sinkage_m, depth).pressure_Pa;
+  if (depth >= c.history.peak_sinkage_m) return bekker_loading(c.modulus, c.soil->n, depth).pressure_Pa;
+  return std::max(0.0, c.peak_pressure - c.reload_stiffness * (c.history.peak_sinkage_m - depth));
 }
 
-// Normal stress at theta: the front directly, the rear mapped onto it
-// (Wong-Reece 1967 part I, eq. 7).
-double normal_stress(const Contact& c, double theta) {
-  double front = theta;
+// Normal stress at theta (cos_theta its cosine): the front directly, the
+// rear mapped onto it (Wong-Reece 1967 part I, eq. 7).
+double normal_stress(const Contact& c, double theta, double cos_theta) {
+  double cos_front = cos_theta;
   if (theta < c.thetam)
-    front = c.theta1 - (theta - c.theta2) / (c.thetam - c.theta2) * (c.theta1 - c.thetam);
-  return pressure_at_depth(c, c.r * (std::cos(front) - std::cos(c.theta1)));
+    cos_front = std::cos(c.theta1 - (theta - c.theta2) / (c.thetam - c.theta2) * (c.theta1 - c.thetam));
+  return pressure_at_depth(c, c.r * (cos_front - c.cos_theta1));
 }
 
 struct Sums {
@@ -75,14 +79,13 @@ void integrate(const Contact& c, double lo, double hi, Sums& s) {
   if (!(hi > lo)) return;
   const GaussLegendre& g = gauss();
   const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
-  const double sin1 = std::sin(c.theta1);
   for (int k = 0; k < kNodes; ++k) {
     const double th = mid + half * g.x[k];
     const double wt = half * g.w[k];
-    const double sigma = normal_stress(c, th);
-    const double j = c.r * (c.rim_clock * (c.theta1 - th) - c.ground_clock * (sin1 - std::sin(th)));
-    const double tau = (c.cohesion + sigma * c.tan_phi) * std::copysign(1.0 - std::exp(-std::abs(j) / c.K), j);
     const double cs = std::cos(th), sn = std::sin(th);
+    const double sigma = normal_stress(c, th, cs);
+    const double j = c.r * (c.rim_clock * (c.theta1 - th) - c.ground_clock * (c.sin_theta1 - sn));
+    const double tau = (c.cohesion + sigma * c.tan_phi) * std::copysign(1.0 - std::exp(-std::abs(j) / c.K), j);
     // The flattened bottom keeps the rim's directions: it only caps the
     // stresses (a flat strip at the same depth differs by the cos of its
     // small angles, and the hand-over stays continuous).
@@ -110,6 +113,10 @@ WheelSoilForces wong_reece(const WheelShape& wheel, const SoilMechanics& soil, d
   Contact c;
   c.soil = &soil;
   c.history = history;
+  if (history.peak_sinkage_m > 0.0) {
+    c.peak_pressure = bekker_loading(bekker_modulus_Pa(soil, wheel.width_m), soil.n, history.peak_sinkage_m).pressure_Pa;
+    c.reload_stiffness = unload_stiffness_Pa_per_m(soil, history.peak_sinkage_m);
+  }
   c.r = r;
   c.width = wheel.width_m;
   c.modulus = bekker_modulus_Pa(soil, wheel.width_m);
@@ -122,6 +129,8 @@ WheelSoilForces wong_reece(const WheelShape& wheel, const SoilMechanics& soil, d
   c.rim_clock = s >= 0.0 ? 1.0 : 1.0 + s;
   c.ground_clock = s >= 0.0 ? 1.0 - s : 1.0;
   c.theta1 = std::acos(1.0 - z / r);
+  c.cos_theta1 = std::cos(c.theta1);
+  c.sin_theta1 = std::sin(c.theta1);
   c.thetam = std::clamp(soil.wheel_theta_max_c1 + soil.wheel_theta_max_c2 * s, 0.0, 1.0) * c.theta1;
   // A tyre flattens below the depth where the soil's pressure reaches its
   // inflation and carcass pressures (Wong 2008, 2.7.2).
@@ -129,7 +138,7 @@ WheelSoilForces wong_reece(const WheelShape& wheel, const SoilMechanics& soil, d
   // press the tyre harder than its limit, the tyre's bottom flattens at the
   // depth where the soil's pressure equals it.
   c.flat_depth = z;
-  const double deepest_stressed = r * (std::cos(c.thetam) - std::cos(c.theta1));
+  const double deepest_stressed = r * (std::cos(c.thetam) - c.cos_theta1);
   if (wheel.ground_pressure_limit_Pa > 0.0 &&
       pressure_at_depth(c, deepest_stressed) > wheel.ground_pressure_limit_Pa) {
     double lo = 0.0, hi = deepest_stressed;
@@ -156,7 +165,7 @@ WheelSoilForces wong_reece(const WheelShape& wheel, const SoilMechanics& soil, d
   // starts and ends on either side of it.
   std::array<double, 5> cuts{c.theta2, c.thetam, c.thetam, c.thetam, c.theta1};
   if (c.flat_depth < deepest_stressed) {
-    cuts[2] = std::acos(std::clamp(std::cos(c.theta1) + c.flat_depth / r, -1.0, 1.0));  // front
+    cuts[2] = std::acos(std::clamp(c.cos_theta1 + c.flat_depth / r, -1.0, 1.0));  // front
     const double f = (c.theta1 - cuts[2]) / (c.theta1 - c.thetam);                     // its rear image
     cuts[3] = c.theta2 + f * (c.thetam - c.theta2);
   }
@@ -171,7 +180,7 @@ WheelSoilForces wong_reece(const WheelShape& wheel, const SoilMechanics& soil, d
   out.exit_rad = c.theta2;
   out.max_stress_rad = c.thetam;
   out.max_normal_stress_Pa = pressure_at_depth(c, deepest_stressed);
-  out.contact_length_m = r * (std::sin(c.theta1) - std::sin(c.theta2));
+  out.contact_length_m = r * (c.sin_theta1 - std::sin(c.theta2));
   out.shear_strength_N = c.cohesion * out.contact_length_m * wheel.width_m + std::max(0.0, out.vertical_N) * c.tan_phi;
   return out;
 }
