@@ -139,6 +139,8 @@ void SoilContactModel::update_covered(BodyState& state) {
   const std::vector<std::uint32_t>& before = state.covered;
   std::vector<std::uint32_t>& now = state.covered_next;
   now.clear();
+  // As much room as the map's storage: grows with it, not as more is covered.
+  if (now.capacity() < state.next.cells.capacity()) now.reserve(state.next.cells.capacity());
   // A rolling wheel holds up the rut's walls it touches (the soil it is
   // pressing): its partly covered cells take no avalanche either.
   const double covering = state.press_only ? kPressOnlyCovering : kFullyCovered;
