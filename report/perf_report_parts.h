@@ -132,6 +132,16 @@ struct BenchmarkRun {
 };
 std::map<std::string, BenchmarkRun> run_benchmarks(const std::string& filter, double min_time_s);
 
+// The wheel sections' four plots, added to `s` under names from `prefix`:
+// the worst error against cost, and pull, torque and sinkage against slip
+// (perf_wheels.cpp).
+struct WheelPlotNames {
+  std::string error, pull, torque, sinkage;
+};
+WheelPlotNames add_wheel_plots(const ReportContext& ctx, const std::string& prefix, const std::string& error_title,
+                               const std::vector<Rung>& rungs, const std::vector<Curve>& pull,
+                               const std::vector<Curve>& torque, const std::vector<Curve>& sinkage, ReportSection& s);
+
 // The sections of the page, one function per family (apps/perf_*.cpp).
 ReportSection repose_cone_section(const ReportContext& ctx);      // perf_report.cpp
 ReportSection blade_push_section(const ReportContext& ctx);       // perf_report.cpp

@@ -67,6 +67,18 @@ std::string cell_label(double cells_per_m) { return fmt("%g cm", 100.0 / cells_p
 
 }  // namespace
 
+WheelPlotNames add_wheel_plots(const ReportContext& ctx, const std::string& prefix, const std::string& error_title,
+                               const std::vector<Rung>& rungs, const std::vector<Curve>& pull,
+                               const std::vector<Curve>& torque, const std::vector<Curve>& sinkage, ReportSection& s) {
+  const WheelPlotNames n{ctx.svg_name(prefix + "_error"), ctx.svg_name(prefix + "_pull"), ctx.svg_name(prefix + "_torque"),
+                         ctx.svg_name(prefix + "_sinkage")};
+  s.svgs.emplace_back(n.error, svg_plot(error_title, "worst error (%)", rungs));
+  s.svgs.emplace_back(n.pull, svg_curves("Drawbar pull against slip", "slip", "DP / W", pull));
+  s.svgs.emplace_back(n.torque, svg_curves("Torque against slip", "slip", "T / (W r)", torque));
+  s.svgs.emplace_back(n.sinkage, svg_curves("Sinkage against slip", "slip", "z / D", sinkage));
+  return n;
+}
+
 ReportSection soft_wheel_section(const ReportContext& ctx) {
   const std::vector<double> ladder = ctx.quick ? std::vector<double>{10, 20} : std::vector<double>{5, 10, 20, 40, 80};
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -130,12 +142,9 @@ ReportSection soft_wheel_section(const ReportContext& ctx) {
   const Convergence conv = convergence(sizes, rungs, "wheel's worst error");
 
   ReportSection s;
-  const std::string svg_err = ctx.svg_name("wheel_error"), svg_dp = ctx.svg_name("wheel_pull"),
-                    svg_t = ctx.svg_name("wheel_torque"), svg_z = ctx.svg_name("wheel_sinkage");
-  s.svgs.emplace_back(svg_err, svg_plot("Wong-Reece wheel on the grid against its closed form", "worst error (%)", rungs));
-  s.svgs.emplace_back(svg_dp, svg_curves("Drawbar pull against slip", "slip", "DP / W", dp_curves));
-  s.svgs.emplace_back(svg_t, svg_curves("Torque against slip", "slip", "T / (W r)", t_curves));
-  s.svgs.emplace_back(svg_z, svg_curves("Sinkage against slip", "slip", "z / D", z_curves));
+  const WheelPlotNames plots = add_wheel_plots(ctx, "wheel", "Wong-Reece wheel on the grid against its closed form",
+                                               rungs, dp_curves, t_curves, z_curves, s);
+  const std::string &svg_err = plots.error, &svg_dp = plots.pull, &svg_t = plots.torque, &svg_z = plots.sinkage;
   s.markdown =
       "## Wheels on soft soil\n\nA rigid wheel 0.6 m across and 0.3 m wide carrying " + fmt("%.0f", kMassKg) +
       " kg on 0.5 m of dry sand (Wong's LLL sand), rolled " + fmt("%.1f", kTravelM) + " m at " + fmt("%.1f", kSpeedMps) +

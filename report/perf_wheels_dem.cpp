@@ -83,6 +83,7 @@ ReportSection wheels_dem_section(const ReportContext& ctx) {
   for (const double cells : ladder) {
     Curve zc{fmt("skidsim %.1f cells/D", cells), {}, true}, dpc = zc, tc = zc;
     double wall = 0.0, simulated = 0.0, worst = 0.0;
+    double worst_z = 0.0, worst_driven_dp = 0.0, worst_driven_t = 1.0, braked_t = 1.0;  // the detail column
     for (size_t k = 0; k < runs.size(); ++k) {
       const DemWheel& w = runs[k];
       const WheelLike s = wheel_like(w, soil.terramechanics, soil.flow, cells);
@@ -91,11 +92,20 @@ ReportSection wheels_dem_section(const ReportContext& ctx) {
       const Dimensionless d = of(w, s.run.sinkage_m, s.run.drawbar_pull_N, s.run.drive_torque_Nm);
       zc.points.emplace_back(s.run.slip, d.z), dpc.points.emplace_back(s.run.slip, d.dp), tc.points.emplace_back(s.run.slip, d.t);
       worst = std::max(worst, wheel_error_against_dem(w, s.run.sinkage_m, s.run.drawbar_pull_N, s.run.drive_torque_Nm));
+      worst_z = std::max(worst_z, std::abs(s.run.sinkage_m / w.sinkage_m - 1.0));
+      if (!w.towed && w.slip > 0.0) {
+        worst_driven_dp = std::max(worst_driven_dp, std::abs(s.run.drawbar_pull_N - w.drawbar_pull_N) / w.load_N);
+        worst_driven_t = std::max(worst_driven_t, s.run.drive_torque_Nm / w.torque_Nm);
+      } else if (!w.towed) {
+        braked_t = std::max(braked_t, s.run.drive_torque_Nm / w.torque_Nm);
+      }
       rows[k] += " " + triple(d) + " |";
     }
     z_sk.push_back(zc), dp_sk.push_back(dpc), t_sk.push_back(tc);
     rungs.push_back({fmt("%.1f cells/D", cells) + fmt(" (%.1f cm)", 100.0 * 2.0 * runs.front().radius_m / cells),
-                     wall / simulated, 100.0 * worst, ""});
+                     wall / simulated, 100.0 * worst,
+                     "sinkage " + fmt("%+.0f %%", 100.0 * worst_z) + ", driven pull " + fmt("%.2f W", worst_driven_dp) +
+                         " off, driven torque " + fmt("x%.2f", worst_driven_t) + ", braked torque " + fmt("x%.1f", braked_t)});
   }
   std::vector<Curve> z_curves{z_dem, z_ref}, dp_curves{dp_dem, dp_ref}, t_curves{t_dem, t_ref};
   z_curves.insert(z_curves.end(), z_sk.begin(), z_sk.end());
@@ -103,22 +113,21 @@ ReportSection wheels_dem_section(const ReportContext& ctx) {
   t_curves.insert(t_curves.end(), t_sk.begin(), t_sk.end());
 
   ReportSection out;
-  const std::string svg_err = ctx.svg_name("wheel_dem_error"), svg_dp = ctx.svg_name("wheel_dem_pull"),
-                    svg_t = ctx.svg_name("wheel_dem_torque"), svg_z = ctx.svg_name("wheel_dem_sinkage");
-  out.svgs.emplace_back(svg_err, svg_plot("Wheel against the DEM: worst error over the runs", "worst error (%)", rungs));
-  out.svgs.emplace_back(svg_dp, svg_curves("Drawbar pull against slip", "slip", "DP / W", dp_curves));
-  out.svgs.emplace_back(svg_t, svg_curves("Torque against slip", "slip", "T / (W r)", t_curves));
-  out.svgs.emplace_back(svg_z, svg_curves("Sinkage against slip", "slip", "z / D", z_curves));
+  const WheelPlotNames plots = add_wheel_plots(ctx, "wheel_dem", "Wheel against the DEM: worst error over the runs",
+                                               rungs, dp_curves, t_curves, z_curves, out);
+  const std::string &svg_err = plots.error, &svg_dp = plots.pull, &svg_t = plots.torque, &svg_z = plots.sinkage;
   std::string header = "| slip | DEM (scatter) | Wong-Reece closed form |", rule = "|---|---|---|";
   for (const double cells : ladder) header += fmt(" skidsim, %.1f cells/D |", cells), rule += "---|";
   std::string table_rows;
   for (const std::string& r : rows) table_rows += r + "\n";
   const DemWheel* w = runs.empty() ? nullptr : &runs.front();
+  double mean_load_N = 0.0;
+  for (const DemWheel& r : runs) mean_load_N += r.load_N / static_cast<double>(runs.size());
   out.markdown =
       "## Wheels against the DEM reference\n\n"
       "The LIGGGHTS wheel runs of `dem/wheel/` (a rigid wheel " +
       (w ? fmt("%.2f m", 2.0 * w->radius_m) + " across and " + fmt("%.2f m", w->width_m) + " wide carrying " +
-               fmt("%.0f N", w->load_N) + " on " + fmt("%.3f m", w->bed_depth_m) + " of the 8 mm grains, rough rim, moved at " +
+               fmt("%.0f N", mean_load_N) + " on " + fmt("%.3f m", w->bed_depth_m) + " of the 8 mm grains, rough rim, moved at " +
                fmt("%.2f m/s", w->speed_m_s)
          : std::string("(no runs)")) +
       "; towed free to spin, driven or braked at a held slip; means over the steady travel, `dem/README.md`) against "

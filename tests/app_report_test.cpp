@@ -89,19 +89,20 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
     const char* heading;
     std::size_t tables;
     std::vector<const char*> svgs;
+    const char* tables_end = nullptr;  // where the section's other tables start
   };
   const std::vector<Ladder> ladders = {
       {"## Repose cone", 2, {"perf_repose_slope.svg", "perf_repose_roundness.svg"}},
       {"## Blade push", 1, {"perf_push.svg"}},
       {"## BCRE diffusion", 2, {"perf_bcre_cells.svg", "perf_bcre_substeps.svg"}},
       {"## Plate sinkage", 1, {"perf_plate_sinkage.svg"}},
-      {"## Wheel sinkage", 2, {"perf_wheel_standing.svg", "perf_wheel_towed.svg"}},
+      {"## Wheels on soft soil", 1, {"perf_wheel_error.svg"}, "At the finest rung"},
       {"## Pressure under a pile", 1, {"perf_pile_load.svg"}},
   };
   for (const Ladder& l : ladders) {
     const std::string s = section(md, l.heading);
     ASSERT_FALSE(s.empty()) << l.heading;
-    const auto rows = table_rows(s);
+    const auto rows = table_rows(l.tables_end ? s.substr(0, s.find(l.tables_end)) : s);
     EXPECT_EQ(rows.size(), 2 * l.tables) << l.heading << ": two rungs per table";
     for (const auto& row : rows) {
       ASSERT_GE(row.size(), 3u) << l.heading;
@@ -128,6 +129,24 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
     EXPECT_TRUE(finite_number(rows[0][2])) << "equation '" << rows[0][2] << "'";
     EXPECT_GT(std::strtod(rows[0][3].c_str(), nullptr), 0.0) << "skidsim's mean '" << rows[0][3] << "'";
     EXPECT_EQ(count(read(dir / "perf_digging_dem.svg"), "<circle"), 1u);
+  }
+  // The wheels against the stored DEM runs (dem/wheel/results): a row per
+  // run with the DEM's, the closed form's and skidsim's z / D, DP / W and
+  // T / (W r), one rung in a quick run, its point on the plot, and the
+  // pull, torque and sinkage curves.
+  {
+    const std::string s = section(md, "## Wheels against the DEM reference");
+    ASSERT_FALSE(s.empty());
+    const auto rows = table_rows(s);
+    ASSERT_EQ(rows.size(), 7u) << "six runs and one rung";
+    for (std::size_t k = 0; k < 6; ++k) {
+      ASSERT_EQ(rows[k].size(), 4u);
+      EXPECT_TRUE(finite_number(rows[k][3])) << "skidsim '" << rows[k][3] << "'";
+    }
+    EXPECT_GT(std::strtod(rows[6][2].c_str(), nullptr), 0.0) << "a cost was measured";
+    EXPECT_EQ(count(read(dir / "perf_wheel_dem_error.svg"), "<circle"), 1u);
+    for (const char* svg : {"perf_wheel_dem_pull.svg", "perf_wheel_dem_torque.svg", "perf_wheel_dem_sinkage.svg"})
+      EXPECT_NE(s.find(svg), std::string::npos) << svg;
   }
   // The numbers are measured: the coarse cone's flank is off alpha_I by what
   // the run found, the plate sinks to Bekker's depth within 2 %.
