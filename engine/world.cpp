@@ -438,11 +438,10 @@ void World::soil_on_machine() {
     }
     const terrain::SoilMechanics& soil = soil_->soil_at_cell(f.cell);
     // A wheel rolling onto the soil from firm ground (or off it) carries on
-    // the soil the share of its contact that lies on soil: the contact map's
-    // area against half the theory's contact (a wheel wholly on soil presses
-    // about the whole of it, so the share is 1 there), held at rest.
-    const double share = terrain::follow_soil_share(
-        std::min(1.0, r.contact_area_m2 / (0.5 * f.contact_length_m * d.tyre.width_m + 1e-12)), wheel_contacts_[w]);
+    // the soil the share of its footprint that lies on soil, followed over
+    // travel (terrain/wheel_contact.h).
+    const double share = terrain::follow_soil_share(terrain::soil_share_under(*grid_, wheel, f.contact_length_m),
+                                                    wheel_contacts_[w]);
     s.active = true;
     s.vertical_N = share * f.vertical_N;
     s.drawbar_pull_N = share * f.forward_N;

@@ -29,6 +29,10 @@ constexpr double kMemoryTravel_m = 0.02;
 // A step's travel under which a wheel stands still for its memories.
 constexpr double kStandingStill_m = 1e-6;
 
+// Half the play of a wheel in its rut, in contact lengths (1.5-2 cm for the
+// loader's tyre on sand; advance_wheel_contact).
+constexpr double kRutPlay = 0.05;
+
 // The share of the load under which a side of the contact is left out.
 constexpr double kNegligibleSide = 1e-3;
 
@@ -194,15 +198,43 @@ WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& 
 }
 
 void advance_wheel_contact(double travel_m, double moved_m, double contact_length_m, WheelContactState& state) {
-  state.last_moved_m = moved_m;
-  if (travel_m == 0.0) return;
-  const double target = travel_m > 0.0 ? 1.0 : -1.0;
+  // The travel along the heading through the rut's play (a backlash of
+  // +-kRutPlay of the contact): a wheel rocking in its rut by less than that neither
+  // shifts its load to the other side nor meets new soil; rolling, the
+  // contact follows the travel past the play as before, and sideways
+  // motion as it comes. (Followed at once, the millimetres a machine rocks
+  // by after a drop shifted its wheels' load between the sides a step late
+  // and kept the rocking going.)
+  const double sideways = std::max(0.0, moved_m - std::abs(travel_m));
+  const double half_play = kRutPlay * contact_length_m;
+  const double play = state.play_m + travel_m;
+  state.play_m = std::clamp(play, -half_play, half_play);
+  const double passed = play - state.play_m;
+  state.last_moved_m = std::abs(passed) + sideways;
+  if (passed == 0.0) return;
+  const double target = passed > 0.0 ? 1.0 : -1.0;
   const double length = std::max(0.5 * contact_length_m, 1e-3);
-  state.lead = target + (state.lead - target) * std::exp(-std::abs(travel_m) / length);
+  state.lead = target + (state.lead - target) * std::exp(-std::abs(passed) / length);
+}
+
+double soil_share_under(const GranularGrid& grid, const WheelOnGrid& wheel, double contact_length_m) {
+  constexpr int kAlong = 8, kAcross = 3;
+  constexpr double kFullDepth_m = 0.01;  // soil this deep or deeper counts whole
+  const Eigen::Vector2d across(-wheel.heading.y(), wheel.heading.x());
+  double sum = 0.0;
+  for (int a = 0; a < kAlong; ++a) {
+    for (int c = 0; c < kAcross; ++c) {
+      const Eigen::Vector2d p = wheel.hub_m.head<2>() + contact_length_m * ((a + 0.5) / kAlong - 0.5) * wheel.heading +
+                                wheel.shape.width_m * ((c + 0.5) / kAcross - 0.5) * across;
+      int i = 0, j = 0;
+      if (cell_at(grid, p, &i, &j)) sum += std::min(1.0, grid.material_m(i, j) / kFullDepth_m);
+    }
+  }
+  return sum / (kAlong * kAcross);
 }
 
 double follow_soil_share(double measured, WheelContactState& state) {
-  if (state.soil_share < 0.0 || measured >= state.soil_share) {
+  if (state.soil_share < 0.0) {
     state.soil_share = measured;
   } else {
     const double follow = 1.0 - std::exp(-state.last_moved_m / kMemoryTravel_m);

@@ -40,7 +40,8 @@ struct WheelContactState {
     double lowering_m = 0.0;
   };
   SideMemory side[2];
-  double last_moved_m = 0.0;  // the hub's horizontal travel, the last step
+  double last_moved_m = 0.0;  // the hub's horizontal travel past the rut's play, the last step
+  double play_m = 0.0;        // where the hub stands in its rut's play along the heading
   // The share of the contact that lies on soil (follow_soil_share), or -1
   // while the wheel is off the soil.
   double soil_share = -1.0;
@@ -81,18 +82,26 @@ WheelGridForces wheel_on_grid(const GranularGrid& grid, const SoilContactModel& 
                               const WheelOnGrid& wheel, double slip_forward, WheelContactState& state);
 
 // After the step: moves the loaded side towards the travel (`travel_m`
-// along the heading; exact exponential approach over half the contact
-// length) and notes how far the hub moved over the ground (`moved_m`,
-// horizontally, any direction) for the side memories.
+// along the heading, taken through a play of +-5 % of the contact in the
+// rut; exact
+// exponential approach over half the contact length) and notes how far the
+// hub moved over the ground past that play (`moved_m`, horizontally, any
+// direction) for the side memories.
 void advance_wheel_contact(double travel_m, double moved_m, double contact_length_m, WheelContactState& state);
 
-// The share of the wheel's contact that lies on soil, from this step's
-// measure of it (a wheel crossing from firm ground: the contact map's area
-// against the theory's): it rises at once (a wheel lowered or rolled onto the
-// soil) and falls only over travel, the exponential approach of the side
-// memories. A wheel at rest keeps its share: the cells at the edge of its
-// contact change hands step to step and would take a tenth or a fifth of the
-// load off it and put it back (a parked machine shook on a sand slope).
+// The share of a wheel's contact that lies on soil: its footprint (the
+// contact's length along the heading, centred under the hub, by the width)
+// sampled at 8 x 3 points, each counting the soil under it up to 1 cm deep
+// (a bare or thinly covered base, or ground off the grid, is firm ground
+// the tyre meets through the engine's contact tests). It depends on where
+// the wheel stands, not on which cells its contact map holds this step
+// (measured from those, a standing wheel's share flickered as the cells at
+// the edge of its contact changed hands: a parked machine shook).
+double soil_share_under(const GranularGrid& grid, const WheelOnGrid& wheel, double contact_length_m);
+
+// Followed over travel (the side memories' exponential approach), so a
+// wheel rolling onto the soil from firm ground hands its load over smoothly;
+// the first measure after the wheel was off the soil is taken as it is.
 double follow_soil_share(double measured, WheelContactState& state);
 
 // Off the soil: the next contact starts its share afresh.

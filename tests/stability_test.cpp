@@ -273,7 +273,9 @@ TEST(Stability, DrivenOffAOneMetreLedgeOntoSoftSand) {
   watch.run(w, ahead, 4.0);
   EXPECT_GT(w.loader().link_pose(0).translation().x(), 1.0) << "it went over the edge";
   EXPECT_LT(w.loader().link_pose(0).translation().z(), 1.0) << "and came down";
-  watch.expect_at_rest(w);
+  // Braked from driving on the sand: it pitches onto its ruts and settles
+  // (the motion falls by e every 0.3 s), then stands.
+  watch.expect_at_rest(w, 3.0);
   watch.expect_above_base(shipped_loader().tyre.radius_m);
 }
 
