@@ -290,6 +290,7 @@ TEST(LoaderSoftSoil, TyreForcesChangeContinuouslyFromFirmGroundToSand) {
   EXPECT_TRUE(crossed);
   EXPECT_GT(largest_soil_share, 0.99);  // the wheels did go over to the soil
   RecordProperty("largest_force_step_N", std::to_string(largest_jump));
+  std::printf("[ measured ] firm ground onto sand: largest step of a tyre's force %.0f N\n", largest_jump);
   // Per 2 ms step, under a tenth of a wheel's share of the weight: the firm
   // edge passes smoothly (Bullet's contact test meets the edge as the disc
   // does), and what is left is the soil's own cell-by-cell grain.
