@@ -166,6 +166,7 @@ int write_perf_report(const PerfReportJob& job) {
       {"whole sessions, table 9.3", perf::sessions_section},
       {"level of detail", perf::level_of_detail_section},
       {"two ground models", perf::ground_models_section},
+      {"collapsing columns against the DEM", perf::collapse_dem_section},
   };
   std::vector<perf::ReportSection> sections;
   std::string timings;

@@ -155,5 +155,6 @@ ReportSection sessions_section(const ReportContext& ctx);         // perf_sessio
 ReportSection level_of_detail_section(const ReportContext& ctx);  // perf_level_of_detail.cpp (a big site at rest)
 ReportSection digging_dem_section(const ReportContext& ctx);      // perf_digging.cpp (blades against the DEM reference)
 ReportSection ground_models_section(const ReportContext& ctx);    // perf_ground_models.cpp (automaton vs slippage)
+ReportSection collapse_dem_section(const ReportContext& ctx);     // perf_collapse.cpp (collapsing columns against the DEM reference)
 
 }  // namespace skidsim::report::perf

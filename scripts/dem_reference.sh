@@ -1,18 +1,19 @@
 #!/usr/bin/env bash
-# DEM reference for the earthmoving equation and for wheels on soft soil: installs LIGGGHTS if
-# missing, regenerates the meshes, runs every deck of dem/ in order (calibration, bed, blade
-# runs, bucket; the wheel bed, its sinkage plates and the wheel runs) and post-processes them
-# into the committed CSVs. See dem/README.md.
+# DEM reference for the earthmoving equation, for wheels on soft soil and for fast granular
+# flows: installs LIGGGHTS if missing, regenerates the meshes, runs every deck of dem/ in order
+# (calibration, bed, blade runs, bucket; the wheel bed, its sinkage plates and the wheel runs;
+# the collapsing columns) and post-processes them into the committed CSVs. See dem/README.md.
 #
 #   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide bed blade bucket
-#                                            wheel_bed plate wheel post wheel_post (default: all,
-#                                            in that order); optional stage "wide": the deep vertical
-#                                            cut in a 0.5 m wide bin (its own bed, about 25 min
-#                                            more), then "post"
+#                                            wheel_bed plate wheel post wheel_post collapse
+#                                            collapse_post (default: all, in that order);
+#                                            optional stage "wide": the deep vertical cut in a
+#                                            0.5 m wide bin (its own bed, about 25 min more),
+#                                            then "post"
 #   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
 #
-# Takes about three hours on one core (see dem/results_meta.csv). Never run in CI.
+# Takes about three and a half hours on one core (see dem/results_meta.csv). Never run in CI.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -184,6 +185,31 @@ stage_wheel_post() {
   write_meta
 }
 
+# Collapsing columns (issue "Fast granular flows"): axisymmetric columns of aspect ratio
+# COLLAPSE_ASPECTS in a tube of radius 0.1 m, and one quasi-two-dimensional column (a slot 0.08 m
+# wide) of aspect ratio COLLAPSE_SLOT_ASPECT.
+COLLAPSE_ASPECTS=(0.5 1 2 4)
+COLLAPSE_SLOT_ASPECT=2
+stage_collapse() {
+  local a c="$DEM/collapse"
+  mkdir -p "$SCRATCH/collapse"
+  for a in "${COLLAPSE_ASPECTS[@]}"; do
+    throttle
+    run_deck "collapse_tube_a$a" "$c" column.in -var a "$a" -var slot 0 -var out "$(rel "$SCRATCH/collapse" "$c")" &
+  done
+  throttle
+  run_deck "collapse_slot_a$COLLAPSE_SLOT_ASPECT" "$c" column.in -var a "$COLLAPSE_SLOT_ASPECT" -var slot 1 \
+    -var out "$(rel "$SCRATCH/collapse" "$c")" &
+}
+
+# The collapses' fronts against time and final deposits.
+stage_collapse_post() {
+  wait_ok
+  mkdir -p "$DEM/collapse/results"
+  "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse" "$DEM/collapse/results"
+  write_meta
+}
+
 stage_post() {
   wait_ok
   local cal="$DEM/calibration/results"
@@ -224,7 +250,8 @@ write_meta() {
 }
 
 stages=("$@")
-((${#stages[@]})) || stages=(meshes pile shear slide bed blade bucket wheel_bed plate wheel post wheel_post)
+((${#stages[@]})) || stages=(meshes pile shear slide bed blade bucket wheel_bed plate wheel post wheel_post collapse
+  collapse_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done

@@ -148,6 +148,27 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
     for (const char* svg : {"perf_wheel_dem_pull.svg", "perf_wheel_dem_torque.svg", "perf_wheel_dem_sinkage.svg"})
       EXPECT_NE(s.find(svg), std::string::npos) << svg;
   }
+  // The collapsing columns against the stored DEM runs (dem/collapse/results):
+  // a row per DEM column with its run-out and height and the automaton's at
+  // 10 cm (a quick run), one rung whose books stayed exact, its point on the
+  // error plot and the three curves.
+  {
+    const std::string s = section(md, "## Collapsing columns against the DEM reference");
+    ASSERT_FALSE(s.empty());
+    const auto rows = table_rows(s);
+    ASSERT_GE(rows.size(), 2u);
+    const std::size_t columns = rows.size() - 1;
+    for (std::size_t k = 0; k < columns; ++k) {
+      ASSERT_EQ(rows[k].size(), 3u) << "column, DEM, automaton at 10 cm";
+      EXPECT_GT(std::strtod(rows[k][1].c_str(), nullptr), 0.0) << "DEM run-out '" << rows[k][1] << "'";
+      EXPECT_GT(std::strtod(rows[k][2].c_str(), nullptr), 0.0) << "skidsim's run-out '" << rows[k][2] << "'";
+    }
+    EXPECT_GT(std::strtod(rows[columns][2].c_str(), nullptr), 0.0) << "a cost was measured";
+    EXPECT_NE(rows[columns][3].find("books exact"), std::string::npos) << rows[columns][3];
+    EXPECT_EQ(count(read(dir / "perf_collapse_error.svg"), "<circle"), 1u);
+    for (const char* svg : {"perf_collapse_runout.svg", "perf_collapse_height.svg", "perf_collapse_front.svg"})
+      EXPECT_NE(s.find(svg), std::string::npos) << svg;
+  }
   // The numbers are measured: the coarse cone's flank is off alpha_I by what
   // the run found, the plate sinks to Bekker's depth within 2 %.
   EXPECT_NE(md.find("flank 30."), std::string::npos);

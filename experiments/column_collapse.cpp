@@ -1,0 +1,124 @@
+#include "experiments/column_collapse.h"
+#include "common/physical_constants.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace skidsim::terrain {
+namespace {
+
+// dem/tools/collapse.py's thresholds, in units of r0 (its r0 is 0.1 m and
+// its grains 8 mm across): the edge at a quarter grain of thickness, the
+// centre within 1.5 grains of the axis.
+constexpr double kEdgeThicknessOverR0 = 0.25 * 0.008 / 0.1;
+constexpr double kCentreZoneOverR0 = 1.5 * 0.008 / 0.1;
+
+// The domain reaches as far as the DEM deck's (dem/collapse/column.in).
+double domain_reach_m(const CollapseCase& c) { return c.r0_m * (1.0 + 1.35 * (1.0 + 2.5 * std::sqrt(c.aspect))); }
+
+double distance_m(const GranularGrid& g, const CollapseCase& c, int i, int j) {
+  const Eigen::Vector2d p = g.spec().origin_m + g.cell_size_m() * Eigen::Vector2d(i, j);
+  return c.slot ? p.x() : p.norm();
+}
+
+GranularGrid column_grid(const CollapseCase& c, const SoilFlowParameters& soil) {
+  if (!(c.aspect > 0.0 && c.r0_m > 0.0 && c.cell_m > 0.0 && c.cell_m < c.r0_m))
+    throw std::invalid_argument("column collapse: aspect, r0_m and cell_m must be > 0, cell_m below r0_m");
+  const double reach = domain_reach_m(c);
+  GridSpec spec;
+  spec.cell_size_m = c.cell_m;
+  if (c.slot) {
+    spec.nx = static_cast<int>(std::ceil(reach / c.cell_m));
+    spec.ny = 1;
+    spec.origin_m = Eigen::Vector2d(0.5 * c.cell_m, 0.0);  // the wall at x = 0
+  } else {
+    const int half = static_cast<int>(std::ceil(reach / c.cell_m));
+    spec.nx = spec.ny = 2 * half + 1;  // the axis on the middle cell's centre
+    spec.origin_m = Eigen::Vector2d::Constant(-half * c.cell_m);
+  }
+  GranularGrid g(spec, soil, c.step_dt_s, 100000);
+  const double h0 = c.aspect * c.r0_m;
+  for (int j = 0; j < spec.ny; ++j)
+    for (int i = 0; i < spec.nx; ++i)
+      if (distance_m(g, c, i, j) < c.r0_m) g.set_material_m(i, j, h0);
+  return g;
+}
+
+}  // namespace
+
+CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, double t_s) {
+  // Bins along the distance from the axis (or wall), d wide: the mass in
+  // each, and the area it spreads over (the cells' own, so a bin's thickness
+  // is the mean column height there).
+  const double d = g.cell_size_m();
+  const int bins = static_cast<int>(std::ceil(domain_reach_m(c) * (c.slot ? 1.0 : std::sqrt(2.0)) / d)) + 2;
+  std::vector<double> volume(bins, 0.0), area(bins, 0.0);
+  CollapseFrame f;
+  f.t_s = t_s;
+  double total = 0.0;
+  for (int j = 0; j < g.ny(); ++j) {
+    for (int i = 0; i < g.nx(); ++i) {
+      const double r = distance_m(g, c, i, j);
+      const int k = std::min(bins - 1, static_cast<int>(r / d));
+      const double h = g.material_m(i, j);
+      volume[k] += h * d * d;
+      area[k] += d * d;
+      total += h * d * d;
+      if (r <= std::max(kCentreZoneOverR0 * c.r0_m, 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, h);
+    }
+  }
+  double acc = 0.0;
+  bool found = false;
+  for (int k = 0; k < bins; ++k) {
+    if (!found && acc + volume[k] >= 0.99 * total && volume[k] > 0.0) {
+      f.front_r99_m = d * (k + (0.99 * total - acc) / volume[k]);  // linear within the bin
+      found = true;
+    }
+    acc += volume[k];
+    if (area[k] > 0.0 && volume[k] / area[k] >= kEdgeThicknessOverR0 * c.r0_m) f.front_edge_m = d * (k + 1);
+  }
+  return f;
+}
+
+CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters& soil) {
+  CollapseRun run;
+  run.c = c;
+  GranularGrid g = column_grid(c, soil);
+  const double h0 = c.aspect * c.r0_m;
+  const double t_scale = std::sqrt(h0 / kGravity_m_s2);
+  const double max_time = c.max_time_s > 0.0 ? c.max_time_s : 40.0 * t_scale;
+  const double frame_dt = c.frame_dt_s > 0.0 ? c.frame_dt_s : 0.1 * t_scale;
+  const int max_steps = static_cast<int>(std::ceil(max_time / c.step_dt_s));
+  const int frame_every = std::max(1, static_cast<int>(std::lround(frame_dt / c.step_dt_s)));
+  run.books_exact = g.ledger().balanced();
+  run.frames.push_back(measure_collapse(g, c, 0.0));
+  run.t_stop_s = max_time;
+  const auto t0 = std::chrono::steady_clock::now();
+  int s = 0;
+  while (s < max_steps) {
+    g.step();
+    ++s;
+    if (s % frame_every == 0) {
+      run.frames.push_back(measure_collapse(g, c, s * c.step_dt_s));
+      run.books_exact = run.books_exact && g.ledger().balanced();
+    }
+    if (g.at_rest()) {
+      run.at_rest = true;
+      run.t_stop_s = s * c.step_dt_s;
+      break;
+    }
+  }
+  run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.steps = s;
+  run.final_state = measure_collapse(g, c, s * c.step_dt_s);
+  run.books_exact = run.books_exact && g.ledger().balanced();
+  const CollapseFrame& first = run.frames.front();
+  run.runout_over_r0 = (run.final_state.front_r99_m - first.front_r99_m) / c.r0_m;
+  run.edge_runout_over_r0 = (run.final_state.front_edge_m - first.front_edge_m) / c.r0_m;
+  run.final_height_over_r0 = run.final_state.centre_height_m / first.centre_height_m * c.aspect;
+  return run;
+}
+
+}  // namespace skidsim::terrain

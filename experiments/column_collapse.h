@@ -1,0 +1,64 @@
+// Collapse of a granular column on the terrain alone, measured as the DEM
+// reference measures its grains (dem/collapse, dem/tools/collapse.py), so
+// the two compare in dimensionless form: run-out (r - r0) / r0, final height
+// H / r0, the front against t / sqrt(H0 / g).
+//
+// An axisymmetric column of radius r0 and height H0 = a r0 stands on a flat
+// hard base and is released at t = 0; or (slot) a column r0 long against a
+// closed wall at x = 0, one row of cells wide, released along +x. The DEM's
+// column is lab-sized (r0 = 0.1 m, 8 mm grains); the grid's is scaled to
+// r0 = 1 m so that sessions' cells (5 and 10 cm) are 20 and 10 per radius.
+// Collapses of cohesionless grains are scale-free in these variables
+// (Lajeunesse et al. 2004, Lube et al. 2004): the run-out and height depend
+// on a and the material's friction, not on r0.
+#pragma once
+
+#include <vector>
+
+#include "terrain/granular_grid.h"
+
+namespace skidsim::terrain {
+
+struct CollapseCase {
+  bool slot = false;     // quasi-two-dimensional: one row of cells, a wall at x = 0
+  double aspect = 1.0;   // a = H0 / r0
+  double r0_m = 1.0;     // column radius (tube) or length (slot)
+  double cell_m = 0.05;
+  double step_dt_s = 0.002;
+  double max_time_s = 0.0;  // 0: 40 sqrt(H0 / g), far past the DEM's t_stop
+  double frame_dt_s = 0.0;  // the front's sampling; 0: sqrt(H0 / g) / 10
+};
+
+// The same measures as dem/tools/collapse.py, in the grid's units.
+struct CollapseFrame {
+  double t_s = 0.0;
+  double front_r99_m = 0.0;      // the distance within which 99 % of the mass lies
+  double front_edge_m = 0.0;     // the farthest cell at least 0.02 r0 thick (the DEM's quarter grain at r0 = 0.1 m)
+  double centre_height_m = 0.0;  // the highest column within 0.12 r0 of the axis or the wall (1.5 grains)
+};
+
+struct CollapseRun {
+  CollapseCase c;
+  std::vector<CollapseFrame> frames;
+  CollapseFrame final_state;
+  // As dem/tools/collapse.py reports them: the front's advance since the
+  // release over r0, and the final centre height over r0 (the column's own
+  // height at release taken as H0).
+  double runout_over_r0 = 0.0;       // front_r99
+  double edge_runout_over_r0 = 0.0;  // front_edge
+  double final_height_over_r0 = 0.0;
+  double t_stop_s = 0.0;   // the first step that moved nothing (max_time_s if none)
+  bool at_rest = false;
+  bool books_exact = false;  // the ledger balanced at every frame
+  double wall_s = 0.0;
+  int steps = 0;
+};
+
+// Runs the case in `soil` (either ground model) until nothing moves or
+// max_time_s. Throws std::invalid_argument for a case the grid cannot hold.
+CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters& soil);
+
+// The measures of one state (exposed for the tests).
+CollapseFrame measure_collapse(const GranularGrid& grid, const CollapseCase& c, double t_s);
+
+}  // namespace skidsim::terrain

@@ -1,0 +1,163 @@
+// Collapsing columns against the DEM reference (dem/collapse,
+// scripts/dem_reference.sh): the LIGGGHTS columns of aspect ratio 0.5-4 and
+// the slot, in dimensionless form (run-out and final height over r0, the
+// front against t / sqrt(H0 / g)), beside today's two ground models
+// (experiments/column_collapse.h) in the calibrated `dem_sand`, the column
+// scaled to r0 = 1 m so the sessions' 10 and 5 cm cells are 10 and 20 per
+// radius, and the cost of each rung.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/physical_constants.h"
+#include "experiments/column_collapse.h"
+#include "io/soil_table.h"
+#include "report/perf_report_parts.h"
+
+namespace skidsim::report::perf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using terrain::CollapseCase;
+using terrain::CollapseRun;
+using terrain::GroundModel;
+
+// One LIGGGHTS column: a row of dem/collapse/results/summary.csv.
+struct DemColumn {
+  bool slot = false;
+  double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
+  std::vector<std::pair<double, double>> front;  // t / sqrt(H0 / g), (r99 - r99(0)) / r0
+};
+
+std::vector<DemColumn> read_dem_columns(const fs::path& dir) {
+  const fs::path summary = dir / "summary.csv";
+  const CsvNumbers csv = read_csv_numbers(summary);
+  std::vector<DemColumn> out;
+  for (const auto& row : csv.rows) {
+    DemColumn c;
+    c.slot = row[csv.column("slot", summary)] != 0.0;
+    c.aspect = row[csv.column("aspect_ratio", summary)];
+    c.runout = row[csv.column("runout_r99_rel", summary)];
+    c.edge_runout = row[csv.column("runout_edge_rel", summary)];
+    c.height = row[csv.column("final_height_rel", summary)];
+    c.t_stop_scaled = row[csv.column("t_stop_over_sqrt_H0_g", summary)];
+    const double r0 = row[csv.column("r0_m", summary)], h0 = row[csv.column("H0_m", summary)];
+    const fs::path front = dir / ("front_" + std::string(c.slot ? "slot" : "tube") + "_a" + fmt("%g", c.aspect) + ".csv");
+    const CsvNumbers f = read_csv_numbers(front);
+    const std::size_t t = f.column("t_s", front), r = f.column("front_r99_m", front);
+    for (const auto& fr : f.rows)
+      c.front.emplace_back(fr[t] / std::sqrt(h0 / kGravity_m_s2), (fr[r] - f.rows.front()[r]) / r0);
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::string case_name(const DemColumn& c) { return std::string(c.slot ? "slot" : "tube") + ", a = " + fmt("%g", c.aspect); }
+
+// The worst of the run-out's and the height's relative errors.
+double column_error(const DemColumn& dem, const CollapseRun& run) {
+  return std::max(std::abs(run.runout_over_r0 / dem.runout - 1.0), std::abs(run.final_height_over_r0 / dem.height - 1.0));
+}
+
+}  // namespace
+
+ReportSection collapse_dem_section(const ReportContext& ctx) {
+  const fs::path root = fs::path(io::default_assets_dir()).parent_path();
+  const std::vector<DemColumn> dem = read_dem_columns(root / "dem" / "collapse" / "results");
+  const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.05};
+  const std::vector<GroundModel> models = ctx.quick ? std::vector<GroundModel>{GroundModel::kAutomaton}
+                                                    : std::vector<GroundModel>{GroundModel::kAutomaton, GroundModel::kSlippage};
+
+  Curve runout_dem{"DEM", {}}, height_dem{"DEM", {}};
+  std::vector<Curve> runout_sk, height_sk, fronts;
+  std::vector<Rung> rungs;
+  std::string rows;
+  for (const DemColumn& d : dem) {
+    if (d.slot) continue;
+    runout_dem.points.emplace_back(d.aspect, d.runout), height_dem.points.emplace_back(d.aspect, d.height);
+  }
+  for (const DemColumn& d : dem)
+    if (!d.slot && d.aspect == 2.0) fronts.push_back({"DEM, tube a = 2", d.front});
+  std::vector<std::string> cells_rows(dem.size());
+  for (GroundModel m : models) {
+    for (double cell : cells) {
+      terrain::SoilFlowParameters soil = sand;
+      soil.model = m;
+      const std::string label = std::string(m == GroundModel::kSlippage ? "slippage" : "automaton") + ", " +
+                                fmt("%g", cell * 100.0) + " cm";
+      Curve runout{label, {}}, height{label, {}};
+      double worst = 0.0, wall = 0.0, simulated = 0.0;
+      bool books = true;
+      for (std::size_t k = 0; k < dem.size(); ++k) {
+        const DemColumn& d = dem[k];
+        CollapseCase c;
+        c.slot = d.slot;
+        c.aspect = d.aspect;
+        c.cell_m = cell;
+        const CollapseRun run = terrain::run_column_collapse(c, soil);
+        worst = std::max(worst, column_error(d, run));
+        wall += run.wall_s, simulated += run.steps * c.step_dt_s;
+        books = books && run.books_exact;
+        if (!d.slot) runout.points.emplace_back(d.aspect, run.runout_over_r0), height.points.emplace_back(d.aspect, run.final_height_over_r0);
+        if (!d.slot && d.aspect == 2.0) {
+          Curve f{label, {}};
+          const double t_scale = std::sqrt(c.aspect * c.r0_m / kGravity_m_s2);
+          for (const auto& fr : run.frames) {
+            if (fr.t_s / t_scale > 12.0) break;
+            f.points.emplace_back(fr.t_s / t_scale, (fr.front_r99_m - run.frames.front().front_r99_m) / c.r0_m);
+          }
+          fronts.push_back(f);
+        }
+        cells_rows[k] += " | " + fmt("%.2f", run.runout_over_r0) + " / " + fmt("%.2f", run.final_height_over_r0) +
+                         (run.at_rest ? "" : " (moving)");
+      }
+      runout_sk.push_back(runout), height_sk.push_back(height);
+      rungs.push_back({label, simulated > 0.0 ? wall / simulated : 0.0, worst,
+                       std::string("books ") + (books ? "exact" : "NOT exact") + " over every run"});
+    }
+  }
+  std::string header = "| column | DEM: run-out / height / t_stop |";
+  std::string rule = "|---|---|";
+  for (GroundModel m : models)
+    for (double cell : cells) {
+      header += std::string(" ") + (m == GroundModel::kSlippage ? "slippage" : "automaton") + ", " + fmt("%g", cell * 100.0) + " cm |";
+      rule += "---|";
+    }
+  for (std::size_t k = 0; k < dem.size(); ++k)
+    rows += "| " + case_name(dem[k]) + " | " + fmt("%.2f", dem[k].runout) + " / " + fmt("%.2f", dem[k].height) + " / " +
+            fmt("%.1f", dem[k].t_stop_scaled) + cells_rows[k] + " |\n";
+
+  ReportSection s;
+  std::vector<Curve> runout_curves{runout_dem}, height_curves{height_dem};
+  runout_curves.insert(runout_curves.end(), runout_sk.begin(), runout_sk.end());
+  height_curves.insert(height_curves.end(), height_sk.begin(), height_sk.end());
+  const std::string runout_svg = ctx.svg_name("collapse_runout"), height_svg = ctx.svg_name("collapse_height"),
+                    front_svg = ctx.svg_name("collapse_front"), error_svg = ctx.svg_name("collapse_error");
+  s.svgs.emplace_back(runout_svg, svg_curves("Run-out against aspect ratio (tube)", "a = H0 / r0", "(r99 - r99 at release) / r0", runout_curves));
+  s.svgs.emplace_back(height_svg, svg_curves("Final height against aspect ratio (tube)", "a = H0 / r0", "H / r0", height_curves));
+  s.svgs.emplace_back(front_svg, svg_curves("The front against time, tube a = 2", "t / sqrt(H0 / g)", "(r99 - r99 at release) / r0", fronts));
+  s.svgs.emplace_back(error_svg, svg_plot("Collapsing columns: worst error against the DEM", "worst relative error (run-out, height)", rungs));
+  s.markdown =
+      "## Collapsing columns against the DEM reference\n\n"
+      "Granular columns released on a rough floor (dem/collapse, LIGGGHTS; scripts/dem_reference.sh, stages collapse "
+      "and collapse_post): axisymmetric columns of radius r0 = 0.1 m and aspect ratio a = H0 / r0, and a column "
+      "between the walls of a slot 0.08 m wide, in the calibrated DEM material. skidsim's column is the same in "
+      "dimensionless form, scaled to r0 = 1 m in `dem_sand` (whose repose and stop angles come from the DEM's pile), "
+      "so that 10 and 5 cm cells are 10 and 20 per radius; collapses of cohesionless grains depend on a and the "
+      "material's friction, not on r0 (Lajeunesse et al. 2004, Lube et al. 2004). Run-out: the advance of the "
+      "distance within which 99 % of the mass lies, over r0; height: the column's at the axis (or the back wall) "
+      "at rest, over r0; t_stop: when the DEM's kinetic energy falls below 1e-3 of its peak, over sqrt(H0 / g). "
+      "Both ground models are today's: the automaton moves soil at most at its rolling-layer rate and stops it at "
+      "the repose angle, so fast flows run out short and stand tall.\n\n" +
+      header + "\n" + rule + "\n" + rows + "\n" + table(rungs, "worst relative error (run-out, height)", kCostPerSimulatedSecond, "model, cells") +
+      "\n![" + runout_svg + "](" + runout_svg + ") ![" + height_svg + "](" + height_svg + ")\n\n![" + front_svg + "](" +
+      front_svg + ") ![" + error_svg + "](" + error_svg + ")\n";
+  return s;
+}
+
+}  // namespace skidsim::report::perf
