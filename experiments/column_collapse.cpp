@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <stdexcept>
 
@@ -92,19 +93,25 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   const double frame_dt = c.frame_dt_s > 0.0 ? c.frame_dt_s : 0.1 * t_scale;
   const int max_steps = static_cast<int>(std::ceil(max_time / c.step_dt_s));
   const int frame_every = std::max(1, static_cast<int>(std::lround(frame_dt / c.step_dt_s)));
+  std::unique_ptr<MomentumFlow> flow;
+  if (c.momentum) {
+    flow = std::make_unique<MomentumFlow>(g, c.momentum_params, c.step_dt_s);
+    flow->wake_all(g);
+  }
   run.books_exact = g.ledger().balanced();
   run.frames.push_back(measure_collapse(g, c, 0.0));
   run.t_stop_s = max_time;
   const auto t0 = std::chrono::steady_clock::now();
   int s = 0;
   while (s < max_steps) {
+    if (flow) flow->step(g);
     g.step();
     ++s;
     if (s % frame_every == 0) {
       run.frames.push_back(measure_collapse(g, c, s * c.step_dt_s));
       run.books_exact = run.books_exact && g.ledger().balanced();
     }
-    if (g.at_rest()) {
+    if (g.at_rest() && (!flow || flow->moving_cells() == 0)) {
       run.at_rest = true;
       run.t_stop_s = s * c.step_dt_s;
       break;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "terrain/granular_grid.h"
+#include "terrain/momentum_flow.h"
 
 namespace skidsim::terrain {
 
@@ -27,6 +28,10 @@ struct CollapseCase {
   double step_dt_s = 0.002;
   double max_time_s = 0.0;  // 0: 40 sqrt(H0 / g), far past the DEM's t_stop
   double frame_dt_s = 0.0;  // the front's sampling; 0: sqrt(H0 / g) / 10
+  // Fast flows with momentum (terrain/momentum_flow.h) beside the soil's
+  // ground model; off: the ground model alone.
+  bool momentum = false;
+  MomentumFlowParameters momentum_params;
 };
 
 // The same measures as dem/tools/collapse.py, in the grid's units.

@@ -70,8 +70,20 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   const std::vector<DemColumn> dem = read_dem_columns(root / "dem" / "collapse" / "results");
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.05};
-  const std::vector<GroundModel> models = ctx.quick ? std::vector<GroundModel>{GroundModel::kAutomaton}
-                                                    : std::vector<GroundModel>{GroundModel::kAutomaton, GroundModel::kSlippage};
+  // Today's two ground models, and the automaton with the fast-flow
+  // prototype (terrain/momentum_flow.h), its bed friction the soil's
+  // internal friction from the DEM's shear box (dem_sand's friction_angle_deg).
+  struct Variant {
+    std::string name;
+    GroundModel model;
+    bool momentum;
+  };
+  const double shear_box_phi_deg = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").terramechanics.friction_angle_deg;
+  const std::vector<Variant> variants =
+      ctx.quick ? std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false}}
+                : std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false},
+                                       {"slippage", GroundModel::kSlippage, false},
+                                       {"automaton + momentum", GroundModel::kAutomaton, true}};
 
   Curve runout_dem{"DEM", {}}, height_dem{"DEM", {}};
   std::vector<Curve> runout_sk, height_sk, fronts;
@@ -84,12 +96,11 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   for (const DemColumn& d : dem)
     if (!d.slot && d.aspect == 2.0) fronts.push_back({"DEM, tube a = 2", d.front});
   std::vector<std::string> cells_rows(dem.size());
-  for (GroundModel m : models) {
+  for (const Variant& v : variants) {
     for (double cell : cells) {
       terrain::SoilFlowParameters soil = sand;
-      soil.model = m;
-      const std::string label = std::string(m == GroundModel::kSlippage ? "slippage" : "automaton") + ", " +
-                                fmt("%g", cell * 100.0) + " cm";
+      soil.model = v.model;
+      const std::string label = v.name + ", " + fmt("%g", cell * 100.0) + " cm";
       Curve runout{label, {}}, height{label, {}};
       double worst = 0.0, wall = 0.0, simulated = 0.0;
       bool books = true;
@@ -99,6 +110,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
         c.slot = d.slot;
         c.aspect = d.aspect;
         c.cell_m = cell;
+        c.momentum = v.momentum;
+        c.momentum_params.bed_friction_deg = c.momentum_params.start_friction_deg = shear_box_phi_deg;
         const CollapseRun run = terrain::run_column_collapse(c, soil);
         worst = std::max(worst, column_error(d, run));
         wall += run.wall_s, simulated += run.steps * c.step_dt_s;
@@ -123,9 +136,9 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   }
   std::string header = "| column | DEM: run-out / height / t_stop |";
   std::string rule = "|---|---|";
-  for (GroundModel m : models)
+  for (const Variant& v : variants)
     for (double cell : cells) {
-      header += std::string(" ") + (m == GroundModel::kSlippage ? "slippage" : "automaton") + ", " + fmt("%g", cell * 100.0) + " cm |";
+      header += " " + v.name + ", " + fmt("%g", cell * 100.0) + " cm |";
       rule += "---|";
     }
   for (std::size_t k = 0; k < dem.size(); ++k)
@@ -152,8 +165,12 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "material's friction, not on r0 (Lajeunesse et al. 2004, Lube et al. 2004). Run-out: the advance of the "
       "distance within which 99 % of the mass lies, over r0; height: the column's at the axis (or the back wall) "
       "at rest, over r0; t_stop: when the DEM's kinetic energy falls below 1e-3 of its peak, over sqrt(H0 / g). "
-      "Both ground models are today's: the automaton moves soil at most at its rolling-layer rate and stops it at "
-      "the repose angle, so fast flows run out short and stand tall.\n\n" +
+      "The automaton moves soil at most at its rolling-layer rate and stops it at the repose angle, so fast flows "
+      "run out short and stand tall; the slippage model likewise. \"automaton + momentum\" is the fast-flow "
+      "prototype (terrain/momentum_flow.h, docs/terrain_model.md): soil steeper than the repose angle fails into "
+      "a flowing layer that carries a depth-averaged velocity (Savage-Hutter, Coulomb friction on its bed at the "
+      "DEM shear box's " + fmt("%.1f", shear_box_phi_deg) + " deg) until friction stops it; it runs beside the "
+      "automaton, which keeps the slow avalanches. Each cell: run-out / height.\n\n" +
       header + "\n" + rule + "\n" + rows + "\n" + table(rungs, "worst relative error (run-out, height)", kCostPerSimulatedSecond, "model, cells") +
       "\n![" + runout_svg + "](" + runout_svg + ") ![" + height_svg + "](" + height_svg + ")\n\n![" + front_svg + "](" +
       front_svg + ") ![" + error_svg + "](" + error_svg + ")\n";

@@ -1,0 +1,97 @@
+// The fast-flow prototype (terrain/momentum_flow.h): Savage-Hutter's earth
+// pressure against Rankine's closed form, exact books and bit-for-bit
+// repeats of a collapse, the stability bound refused past its limit, and a
+// terrain at rest costing nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "common/physical_constants.h"
+#include "experiments/column_collapse.h"
+#include "terrain/momentum_flow.h"
+
+namespace skidsim::terrain {
+namespace {
+
+// With a frictionless bed (delta = 0) Savage-Hutter's coefficients are
+// Rankine's: (1 -+ sin phi) / (1 +- sin phi); with delta = phi both are
+// 2 sec^2 phi - 1.
+TEST(MomentumFlow, EarthPressureIsRankinesOnASmoothBed) {
+  for (double phi : {20.0, 30.0, 38.9}) {
+    const double s = std::sin(phi * kPi / 180.0), c = std::cos(phi * kPi / 180.0);
+    EXPECT_NEAR(earth_pressure_active(phi, 0.0), (1.0 - s) / (1.0 + s), 1e-12) << phi;
+    EXPECT_NEAR(earth_pressure_passive(phi, 0.0), (1.0 + s) / (1.0 - s), 1e-12) << phi;
+    EXPECT_NEAR(earth_pressure_active(phi, phi), 2.0 / (c * c) - 1.0, 1e-9) << phi;
+    EXPECT_NEAR(earth_pressure_passive(phi, phi), 2.0 / (c * c) - 1.0, 1e-9) << phi;
+  }
+}
+
+CollapseCase momentum_case(double aspect, double cell_m) {
+  CollapseCase c;
+  c.aspect = aspect;
+  c.cell_m = cell_m;
+  c.momentum = true;
+  // dem_sand's internal friction (the DEM's shear box), as the report runs it
+  c.momentum_params.bed_friction_deg = c.momentum_params.start_friction_deg = 38.9;
+  return c;
+}
+
+TEST(MomentumFlow, ACollapseKeepsExactBooksAndRepeatsBitForBit) {
+  const CollapseCase c = momentum_case(2.0, 0.1);
+  const CollapseRun a = run_column_collapse(c, SoilFlowParameters{});
+  const CollapseRun b = run_column_collapse(c, SoilFlowParameters{});
+  EXPECT_TRUE(a.books_exact);
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (std::size_t k = 0; k < a.frames.size(); ++k) {
+    EXPECT_EQ(a.frames[k].front_r99_m, b.frames[k].front_r99_m) << k;
+    EXPECT_EQ(a.frames[k].centre_height_m, b.frames[k].centre_height_m) << k;
+  }
+  // With momentum the collapse runs out farther than the automaton's
+  // diffusion alone takes it.
+  CollapseCase slow = c;
+  slow.momentum = false;
+  EXPECT_GT(a.runout_over_r0, 1.5 * run_column_collapse(slow, SoilFlowParameters{}).runout_over_r0);
+}
+
+TEST(MomentumFlow, ALowColumnKeepsItsTop) {
+  const CollapseRun run = run_column_collapse(momentum_case(0.5, 0.1), SoilFlowParameters{});
+  EXPECT_NEAR(run.final_height_over_r0, 0.5, 1e-12);
+  EXPECT_TRUE(run.books_exact);
+}
+
+TEST(MomentumFlow, RefusesAStepPastItsStabilityBound) {
+  GridSpec spec;
+  spec.nx = spec.ny = 8;
+  spec.cell_size_m = 0.01;
+  GranularGrid g(spec, SoilFlowParameters{}, 0.002, 100000);
+  g.set_material_m(4, 4, 5.0);  // a fall of 5 m: ~14 m/s, 7 cells a 2 ms step
+  MomentumFlowParameters p;
+  p.max_substeps = 4;
+  try {
+    MomentumFlow flow(g, p, 0.002);
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("sub-steps"), std::string::npos) << e.what();
+  }
+  p.max_substeps = 1000;
+  EXPECT_NO_THROW(MomentumFlow(g, p, 0.002));
+}
+
+TEST(MomentumFlow, ATerrainAtRestCostsNothing) {
+  GridSpec spec;
+  spec.nx = spec.ny = 16;
+  spec.cell_size_m = 0.1;
+  GranularGrid g(spec, SoilFlowParameters{}, 0.002);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) g.set_material_m(i, j, 0.3);  // level: nothing fails
+  MomentumFlow flow(g, MomentumFlowParameters{}, 0.002);
+  flow.wake_all(g);
+  flow.step(g);
+  EXPECT_EQ(flow.moving_cells(), 0u);
+  flow.step(g);
+  EXPECT_EQ(flow.last_substeps(), 0);
+}
+
+}  // namespace
+}  // namespace skidsim::terrain
