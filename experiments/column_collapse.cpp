@@ -95,7 +95,12 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   const int frame_every = std::max(1, static_cast<int>(std::lround(frame_dt / c.step_dt_s)));
   std::unique_ptr<MomentumFlow> flow;
   if (c.momentum) {
-    flow = std::make_unique<MomentumFlow>(g, c.momentum_params, c.step_dt_s);
+    MomentumFlowParameters p = c.momentum_params;
+    if (c.slot && c.slot_wall_friction_deg > 0.0) {
+      p.side_wall_gap_m = c.slot_gap_over_r0 * c.r0_m;
+      p.side_wall_friction_deg = c.slot_wall_friction_deg;
+    }
+    flow = std::make_unique<MomentumFlow>(g, p, c.step_dt_s);
     flow->wake_all(g);
   }
   run.books_exact = g.ledger().balanced();

@@ -22,6 +22,10 @@ namespace skidsim::terrain {
 
 struct CollapseCase {
   bool slot = false;     // quasi-two-dimensional: one row of cells, a wall at x = 0
+  // The slot's side walls as the DEM has them, over r0 (0.08 m / 0.1 m), and
+  // their friction angle on the soil; the momentum flow rubs on them.
+  double slot_gap_over_r0 = 0.8;
+  double slot_wall_friction_deg = 0.0;
   double aspect = 1.0;   // a = H0 / r0
   double r0_m = 1.0;     // column radius (tube) or length (slot)
   double cell_m = 0.05;

@@ -78,7 +78,10 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
     GroundModel model;
     bool momentum;
   };
-  const double shear_box_phi_deg = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").terramechanics.friction_angle_deg;
+  const terrain::SoilMechanics& sand_mech = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").terramechanics;
+  const double shear_box_phi_deg = sand_mech.friction_angle_deg;
+  // The DEM slot's steel side walls: the steel sliding plate's delta.
+  const double steel_delta_deg = sand_mech.tool_friction_angle_deg;
   const std::vector<Variant> variants =
       ctx.quick ? std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false}}
                 : std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false},
@@ -112,6 +115,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
         c.cell_m = cell;
         c.momentum = v.momentum;
         c.momentum_params.bed_friction_deg = c.momentum_params.start_friction_deg = shear_box_phi_deg;
+        c.slot_wall_friction_deg = steel_delta_deg;
         const CollapseRun run = terrain::run_column_collapse(c, soil);
         worst = std::max(worst, column_error(d, run));
         wall += run.wall_s, simulated += run.steps * c.step_dt_s;
@@ -169,7 +173,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "run out short and stand tall; the slippage model likewise. \"automaton + momentum\" is the fast-flow "
       "prototype (terrain/momentum_flow.h, docs/terrain_model.md): soil steeper than the repose angle fails into "
       "a flowing layer that carries a depth-averaged velocity (Savage-Hutter, Coulomb friction on its bed at the "
-      "DEM shear box's " + fmt("%.1f", shear_box_phi_deg) + " deg) until friction stops it; it runs beside the "
+      "DEM shear box's " + fmt("%.1f", shear_box_phi_deg) + " deg; in the slot, also on its side walls at the steel "
+      "sliding plate's " + fmt("%.1f", steel_delta_deg) + " deg) until friction stops it; it runs beside the "
       "automaton, which keeps the slow avalanches. Each cell: run-out / height.\n\n" +
       header + "\n" + rule + "\n" + rows + "\n" + table(rungs, "worst relative error (run-out, height)", kCostPerSimulatedSecond, "model, cells") +
       "\n![" + runout_svg + "](" + runout_svg + ") ![" + height_svg + "](" + height_svg + ")\n\n![" + front_svg + "](" +

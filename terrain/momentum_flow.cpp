@@ -46,6 +46,11 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
     throw std::invalid_argument("momentum flow: bed friction must be in (0, 89) deg and at most the start friction");
   if (!(courant_ > 0.0 && courant_ <= 0.5)) throw std::invalid_argument("momentum flow: courant must be in (0, 0.5]");
   mu_ = tan_deg(bed_deg);
+  if (params.side_wall_gap_m > 0.0) {
+    if (!(params.side_wall_friction_deg >= 0.0 && params.side_wall_friction_deg < 89.0))
+      throw std::invalid_argument("momentum flow: side_wall_friction_deg must be in [0, 89)");
+    wall_mu_over_gap_ = tan_deg(params.side_wall_friction_deg) / params.side_wall_gap_m;
+  }
   mu_start_ = tan_deg(start_deg);
   if (params.earth_pressure > 0.0) {
     k_active_ = k_passive_ = params.earth_pressure;
@@ -84,7 +89,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   flowing_.assign(n, 0);
   arriving_.assign(n, 0);
   leaving_.assign(n, 0);
-  tan_stop_ = std::tan(soil.stop_angle_deg * kPi / 180.0);
+  tan_stop_ = tan_deg(soil.stop_angle_deg);
 }
 
 void MomentumFlow::mark(int cell) {
@@ -181,11 +186,11 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     // its own thickness's through the earth pressure (K = 1: hydrostatic).
     const double ax = -kGravity_m_s2 * ((nb_h[0] - nb_h[1]) + (k_earth - 1.0) * (nb_f[0] - nb_f[1])) / (2.0 * d_);
     const double ay = -kGravity_m_s2 * ((nb_h[2] - nb_h[3]) + (k_earth - 1.0) * (nb_f[2] - nb_f[3])) / (2.0 * d_);
-    (void)f;
     double ux = ux_[c] + ax * dt_s, uy = uy_[c] + ay * dt_s;
-    // Coulomb friction on the bed takes mu g dt of speed a step; the layer
-    // stops, and lies down as static soil, when that is all it has.
-    const double speed = std::hypot(ux, uy), loss = mu_ * kGravity_m_s2 * dt_s;
+    // Coulomb friction on the bed (and the side walls) takes mu g dt of
+    // speed a step; the layer stops, and lies down as static soil, when that
+    // is all it has.
+    const double speed = std::hypot(ux, uy), loss = (mu_ + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
     const double keep = speed > loss ? (speed - loss) / speed : 0.0;
     if (keep == 0.0) continue;
     outs_.push_back({c, {0, 0, 0, 0}, ux * keep, uy * keep, flowing});

@@ -38,6 +38,13 @@ struct MomentumFlowParameters {
   double earth_pressure = 0.0;
   // Courant number of a sub-step: (|u| + |v| + sqrt(g K h)) dt / d.
   double courant = 0.4;
+  // A channel's side walls, gap_m apart along the grid's y (0: none): the
+  // layer rubs on both with Coulomb friction tan(delta_w) under its
+  // hydrostatic side pressure, a deceleration tan(delta_w) g f / gap (Jop,
+  // Forterre and Pouliquen 2005, "Crucial role of sidewalls in granular
+  // surface flows", J. Fluid Mech. 541).
+  double side_wall_gap_m = 0.0;
+  double side_wall_friction_deg = 0.0;
   int max_substeps = 64;
 };
 
@@ -76,7 +83,7 @@ class MomentumFlow {
   void mark(int cell);
 
   double step_dt_s_ = 0.0, d_ = 0.0;
-  double mu_ = 0.0, mu_start_ = 0.0, tan_stop_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
+  double mu_ = 0.0, mu_start_ = 0.0, tan_stop_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   std::vector<double> ux_, uy_;
   std::vector<std::uint8_t> listed_;

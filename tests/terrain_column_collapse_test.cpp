@@ -39,7 +39,9 @@ TEST(ColumnCollapse, TheSlotSpreadsOneWayAndTheTubeEveryWay) {
   EXPECT_GT(s.runout_over_r0, t.runout_over_r0);
   EXPECT_GT(s.final_height_over_r0, t.final_height_over_r0);
   EXPECT_LT(t.final_height_over_r0, tube.aspect);
-  EXPECT_THROW(run_column_collapse(CollapseCase{false, 1.0, 1.0, 2.0}, SoilFlowParameters{}), std::invalid_argument);
+  CollapseCase coarse;
+  coarse.cell_m = 2.0;  // cells wider than the column
+  EXPECT_THROW(run_column_collapse(coarse, SoilFlowParameters{}), std::invalid_argument);
 }
 
 }  // namespace

@@ -54,6 +54,26 @@ TEST(MomentumFlow, ACollapseKeepsExactBooksAndRepeatsBitForBit) {
   EXPECT_GT(a.runout_over_r0, 1.5 * run_column_collapse(slow, SoilFlowParameters{}).runout_over_r0);
 }
 
+// A slot's side walls hold the layer back (Jop et al. 2005): the same column
+// runs out less between rough walls than between frictionless ones.
+TEST(MomentumFlow, SideWallsHoldTheFlowBack) {
+  CollapseCase smooth = momentum_case(2.0, 0.1);
+  smooth.slot = true;
+  CollapseCase rough = smooth;
+  rough.slot_wall_friction_deg = 19.3;  // dem_sand on steel
+  const CollapseRun a = run_column_collapse(smooth, SoilFlowParameters{});
+  const CollapseRun b = run_column_collapse(rough, SoilFlowParameters{});
+  EXPECT_TRUE(b.books_exact);
+  EXPECT_LT(b.runout_over_r0, 0.97 * a.runout_over_r0);
+  MomentumFlowParameters p;
+  p.side_wall_gap_m = 0.8;
+  p.side_wall_friction_deg = 95.0;
+  GridSpec spec;
+  spec.nx = spec.ny = 4;
+  GranularGrid g(spec, SoilFlowParameters{}, 0.002);
+  EXPECT_THROW(MomentumFlow(g, p, 0.002), std::invalid_argument);
+}
+
 TEST(MomentumFlow, ALowColumnKeepsItsTop) {
   const CollapseRun run = run_column_collapse(momentum_case(0.5, 0.1), SoilFlowParameters{});
   EXPECT_NEAR(run.final_height_over_r0, 0.5, 1e-12);
