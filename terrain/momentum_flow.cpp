@@ -90,6 +90,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   arriving_.assign(n, 0);
   leaving_.assign(n, 0);
   tan_stop_ = tan_deg(soil.stop_angle_deg);
+  min_layer_m_ = soil.min_flow_layer_m;
 }
 
 void MomentumFlow::mark(int cell) {
@@ -178,7 +179,10 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     }
     const std::int64_t flowing =
         std::min(q, std::max(flowing_old, static_cast<std::int64_t>(std::llround(failing / kHeightQuantumM))));
-    if (flowing == 0) continue;
+    // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
+    // min_flow_layer_m, the automaton's transport layer): it lies down, and
+    // the automaton's slow regime has it.
+    if (flowing == 0 || flowing * kHeightQuantumM < min_layer_m_) continue;
     const double divergence = (nb_u[0] - nb_u[1] + nb_u[2] - nb_u[3]) / (2.0 * d_);
     const double k_earth = divergence >= 0.0 ? k_active_ : k_passive_;
     const double f = flowing * kHeightQuantumM;
@@ -251,7 +255,8 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   // The flowing layer's new velocity: its momentum over its mass. Cells
-  // whose layer left or stopped drop out of the moving list.
+  // whose layer left, stopped or thinned below h_stop drop out of the moving
+  // list (their material lies down).
   std::size_t kept = 0;
   for (int c : touched) {
     const std::int64_t before = flowing_[c];
@@ -264,7 +269,8 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
     flowing_[c] = std::max<std::int64_t>(after, 0);
     ux_[c] = flowing_[c] > 0 ? mx / static_cast<double>(flowing_[c]) : 0.0;
     uy_[c] = flowing_[c] > 0 ? my / static_cast<double>(flowing_[c]) : 0.0;
-    if (flowing_[c] > 0 && (ux_[c] != 0.0 || uy_[c] != 0.0)) touched[kept++] = c;
+    if (flowing_[c] > 0 && flowing_[c] * kHeightQuantumM >= min_layer_m_ && (ux_[c] != 0.0 || uy_[c] != 0.0))
+      touched[kept++] = c;
     else ux_[c] = uy_[c] = 0.0, flowing_[c] = 0;
   }
   touched.resize(kept);

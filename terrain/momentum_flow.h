@@ -67,7 +67,11 @@ class MomentumFlow {
   void step(GranularGrid& grid);
 
   double speed_m_s(int cell) const;
+  double velocity_x_m_s(int cell) const { return ux_[cell]; }
+  double velocity_y_m_s(int cell) const { return uy_[cell]; }
+  double flowing_m(int cell) const { return flowing_[cell] * kHeightQuantumM; }
   std::size_t moving_cells() const { return moving_.size(); }
+  const std::vector<int>& moving() const { return moving_; }
   int last_substeps() const { return last_substeps_; }
   double bed_friction_tan() const { return mu_; }
   double start_friction_tan() const { return mu_start_; }
@@ -83,7 +87,7 @@ class MomentumFlow {
   void mark(int cell);
 
   double step_dt_s_ = 0.0, d_ = 0.0;
-  double mu_ = 0.0, mu_start_ = 0.0, tan_stop_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
+  double mu_ = 0.0, mu_start_ = 0.0, tan_stop_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   std::vector<double> ux_, uy_;
   std::vector<std::uint8_t> listed_;
