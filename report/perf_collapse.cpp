@@ -68,7 +68,8 @@ double column_error(const DemColumn& dem, const CollapseRun& run) {
 ReportSection collapse_dem_section(const ReportContext& ctx) {
   const fs::path root = fs::path(io::default_assets_dir()).parent_path();
   const std::vector<DemColumn> dem = read_dem_columns(root / "dem" / "collapse" / "results");
-  const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  const io::SoilRecord dem_sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand");
+  const terrain::SoilFlowParameters& sand = dem_sand.flow;
   const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.05};
   // Today's two ground models, and the automaton with the fast-flow
   // prototype (terrain/momentum_flow.h), its bed friction the soil's
@@ -78,7 +79,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
     GroundModel model;
     bool momentum;
   };
-  const terrain::SoilMechanics& sand_mech = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").terramechanics;
+  const terrain::SoilMechanics& sand_mech = dem_sand.terramechanics;
   const double shear_box_phi_deg = sand_mech.friction_angle_deg;
   // The DEM slot's steel side walls: the steel sliding plate's delta.
   const double steel_delta_deg = sand_mech.tool_friction_angle_deg;

@@ -9,7 +9,7 @@
 namespace skidsim::terrain {
 namespace {
 
-double tan_deg(double deg) { return std::tan(deg * kPi / 180.0); }
+double tan_deg(double deg) { return std::tan(deg_to_rad(deg)); }
 
 // Directions +x, -x, +y, -y as (di, dj), and the grid edge each crosses.
 constexpr int kDi[4] = {1, -1, 0, 0};
@@ -27,15 +27,16 @@ int neighbour(const GranularGrid& g, int i, int j, int k) {
 
 }  // namespace
 
-double earth_pressure_active(double phi_deg, double delta_deg) {
-  const double c = std::cos(phi_deg * kPi / 180.0), cd = std::cos(std::min(delta_deg, phi_deg) * kPi / 180.0);
-  return 2.0 / (c * c) * (1.0 - std::sqrt(std::max(0.0, 1.0 - c * c / (cd * cd)))) - 1.0;
+namespace {
+// Savage-Hutter (2.23) with sign -1 (active) or +1 (passive).
+double earth_pressure(double phi_deg, double delta_deg, double sign) {
+  const double c = std::cos(deg_to_rad(phi_deg)), cd = std::cos(deg_to_rad(std::min(delta_deg, phi_deg)));
+  return 2.0 / (c * c) * (1.0 + sign * std::sqrt(std::max(0.0, 1.0 - c * c / (cd * cd)))) - 1.0;
 }
+}  // namespace
 
-double earth_pressure_passive(double phi_deg, double delta_deg) {
-  const double c = std::cos(phi_deg * kPi / 180.0), cd = std::cos(std::min(delta_deg, phi_deg) * kPi / 180.0);
-  return 2.0 / (c * c) * (1.0 + std::sqrt(std::max(0.0, 1.0 - c * c / (cd * cd)))) - 1.0;
-}
+double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, -1.0); }
+double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, 1.0); }
 
 MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameters& params, double step_dt_s)
     : step_dt_s_(step_dt_s), d_(grid.cell_size_m()), courant_(params.courant), max_substeps_(params.max_substeps) {

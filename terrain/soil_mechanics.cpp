@@ -126,14 +126,24 @@ double plastic_sinkage_m(const SoilMechanics& soil, double modulus_Pa, double pe
   return std::max(0.0, peak_sinkage_m - p / unload_stiffness_Pa_per_m(soil, peak_sinkage_m));
 }
 
+double unload_stiffness_growth_Pa_per_m2(const SoilMechanics& soil) { return 1000.0 * soil.unload_Au_kPa_per_m2; }
+
+ReloadLine reload_line(const SoilMechanics& soil, double modulus_Pa, double peak_sinkage_m) {
+  return {peak_sinkage_m, bekker_loading(modulus_Pa, soil.n, peak_sinkage_m).pressure_Pa,
+          unload_stiffness_Pa_per_m(soil, peak_sinkage_m)};
+}
+
+PressureSlope bekker_pressure(const ReloadLine& line, double modulus_Pa, double n, double sinkage_m) {
+  if (sinkage_m >= line.peak_sinkage_m) return bekker_loading(modulus_Pa, n, sinkage_m);
+  const double p = line.peak_pressure_Pa - line.stiffness_Pa_per_m * (line.peak_sinkage_m - sinkage_m);
+  if (p <= 0.0) return {};
+  return {p, line.stiffness_Pa_per_m};
+}
+
 PressureSlope bekker_pressure(const SoilMechanics& soil, double modulus_Pa, double peak_sinkage_m,
                               double sinkage_m) {
   if (sinkage_m >= peak_sinkage_m) return bekker_loading(modulus_Pa, soil.n, sinkage_m);
-  const PressureSlope peak = bekker_loading(modulus_Pa, soil.n, peak_sinkage_m);
-  const double k_u = unload_stiffness_Pa_per_m(soil, peak_sinkage_m);
-  const double p = peak.pressure_Pa - k_u * (peak_sinkage_m - sinkage_m);
-  if (p <= 0.0) return {};
-  return {p, k_u};
+  return bekker_pressure(reload_line(soil, modulus_Pa, peak_sinkage_m), modulus_Pa, soil.n, sinkage_m);
 }
 
 double wedge_side_friction_N(double phi_rad, double rho_rad, double density_kg_m3, double depth_m) {

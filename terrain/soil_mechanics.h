@@ -87,8 +87,19 @@ struct PressureSlope {
 };
 PressureSlope bekker_loading(double modulus_Pa, double n, double sinkage_m);
 
-// Unload/reload line slope k_u (Pa/m) from the largest sinkage reached.
+// Unload/reload line slope k_u (Pa/m) from the largest sinkage reached,
+// k0 + A_u z_max, and its growth with z_max, A_u (Pa/m^2).
 double unload_stiffness_Pa_per_m(const SoilMechanics& soil, double peak_sinkage_m);
+double unload_stiffness_growth_Pa_per_m2(const SoilMechanics& soil);
+
+// The reload line of a soil loaded to `peak_sinkage_m`: its top p(z_max) and
+// slope k_u, for evaluating many depths of one rut (bekker_pressure).
+struct ReloadLine {
+  double peak_sinkage_m = 0.0;
+  double peak_pressure_Pa = 0.0;
+  double stiffness_Pa_per_m = 0.0;
+};
+ReloadLine reload_line(const SoilMechanics& soil, double modulus_Pa, double peak_sinkage_m);
 
 // Plastic part of a peak sinkage: what stays when the load is removed,
 // z_max - p(z_max) / k_u (zero when the line would rebound past the start).
@@ -99,6 +110,8 @@ double plastic_sinkage_m(const SoilMechanics& soil, double modulus_Pa, double pe
 // the peak, the reload line below it, never negative.
 PressureSlope bekker_pressure(const SoilMechanics& soil, double modulus_Pa, double peak_sinkage_m,
                               double sinkage_m);
+// The same with the rut's reload line computed once.
+PressureSlope bekker_pressure(const ReloadLine& line, double modulus_Pa, double n, double sinkage_m);
 
 // Fracture wedge of a vertical interface (5.6), as corrected in
 // docs/soil_contact.md: with tool face angle delta_t = 90 deg,

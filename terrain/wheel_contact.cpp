@@ -56,7 +56,7 @@ SoilHistory rut_history(const SoilMechanics& soil, double modulus_Pa, double low
     const double k_u = unload_stiffness_Pa_per_m(soil, m);
     const double f = m - p.pressure_Pa / k_u - lowering_m;
     (f < 0.0 ? lo : hi) = m;
-    const double dk_u = 1000.0 * soil.unload_Au_kPa_per_m2;
+    const double dk_u = unload_stiffness_growth_Pa_per_m2(soil);
     const double df = 1.0 - (p.slope_Pa_per_m * k_u - p.pressure_Pa * dk_u) / (k_u * k_u);
     double next = df > 0.0 ? m - f / df : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);

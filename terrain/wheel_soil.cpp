@@ -48,18 +48,16 @@ struct Contact {
   double rim_clock = 1.0, ground_clock = 1.0;  // a and b of the shear displacement
   double flat_depth = 0.0;                     // the flattened bottom's depth below the entry surface
   SoilHistory history;
-  double peak_pressure = 0.0, reload_stiffness = 0.0;  // a rut's: p(z_peak) and k_u, computed once
+  ReloadLine reload;  // a rut's, computed once per evaluation
   const SoilMechanics* soil = nullptr;
 };
 
 // The soil's pressure at depth `d` below the surface ahead: its loading
-// curve, or the reload line of a rut (soil_mechanics.h bekker_pressure,
-// with the peak's pressure and k_u computed once per evaluation).
+// curve, or the reload line of a rut (soil_mechanics.h bekker_pressure).
 double pressure_at_depth(const Contact& c, double d) {
   if (!(d > 0.0)) return 0.0;
   const double depth = c.history.surface_depth_m + std::min(d, c.flat_depth);
-  if (depth >= c.history.peak_sinkage_m) return bekker_loading(c.modulus, c.soil->n, depth).pressure_Pa;
-  return std::max(0.0, c.peak_pressure - c.reload_stiffness * (c.history.peak_sinkage_m - depth));
+  return bekker_pressure(c.reload, c.modulus, c.soil->n, depth).pressure_Pa;
 }
 
 // Normal stress at theta (cos_theta its cosine): the front directly, the
@@ -113,13 +111,10 @@ WheelSoilForces wong_reece(const WheelShape& wheel, const SoilMechanics& soil, d
   Contact c;
   c.soil = &soil;
   c.history = history;
-  if (history.peak_sinkage_m > 0.0) {
-    c.peak_pressure = bekker_loading(bekker_modulus_Pa(soil, wheel.width_m), soil.n, history.peak_sinkage_m).pressure_Pa;
-    c.reload_stiffness = unload_stiffness_Pa_per_m(soil, history.peak_sinkage_m);
-  }
   c.r = r;
   c.width = wheel.width_m;
   c.modulus = bekker_modulus_Pa(soil, wheel.width_m);
+  if (history.peak_sinkage_m > 0.0) c.reload = reload_line(soil, c.modulus, history.peak_sinkage_m);
   // The weaker of the soil and the rim-soil interface shears (WheelShape).
   const bool rim_slides = deg_to_rad(soil.friction_angle_deg) > wheel.rim_friction_angle_rad;
   c.cohesion = rim_slides ? 0.0 : 1000.0 * soil.cohesion_kPa;
