@@ -39,7 +39,7 @@ double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pr
 double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, 1.0); }
 
 MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameters& params, double step_dt_s)
-    : step_dt_s_(step_dt_s), d_(grid.cell_size_m()), courant_(params.courant), max_substeps_(params.max_substeps) {
+    : step_dt_s_(step_dt_s), d_(grid.cell_size_m()), courant_(params.courant), max_substeps_(params.max_substeps), raining_(params.raining) {
   const SoilFlowParameters& soil = grid.soil();
   const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.stop_angle_deg;
   const double start_deg = params.start_friction_deg > 0.0 ? params.start_friction_deg : soil.repose_angle_deg;
@@ -81,15 +81,20 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
         << " (limit " << max_substeps_ << "). Use larger cells or allow more sub-steps.";
     throw std::invalid_argument(msg.str());
   }
-  const std::size_t n = static_cast<std::size_t>(grid.nx()) * grid.ny();
-  ux_.assign(n, 0.0);
-  uy_.assign(n, 0.0);
+  nx_ = grid.nx(), ny_ = grid.ny();
+  const std::size_t n = static_cast<std::size_t>(nx_) * ny_;
+  const std::size_t nxf = static_cast<std::size_t>(nx_ + 1) * ny_, nyf = static_cast<std::size_t>(nx_) * (ny_ + 1);
+  ux_face_.assign(nxf, 0.0);
+  uy_face_.assign(nyf, 0.0);
+  x_sent_.assign(nxf, 0);
+  y_sent_.assign(nyf, 0);
+  x_listed_.assign(nxf, 0);
+  y_listed_.assign(nyf, 0);
   listed_.assign(n, 0);
-  mom_x_.assign(n, 0.0);
-  mom_y_.assign(n, 0.0);
   flowing_.assign(n, 0);
-  arriving_.assign(n, 0);
-  leaving_.assign(n, 0);
+  core_.assign(n, 0.0);
+  rain_.assign(n, 0);
+  rain_speed_.assign(n, 0.0);
   tan_stop_ = tan_deg(soil.stop_angle_deg);
   min_layer_m_ = soil.min_flow_layer_m;
 }
@@ -100,12 +105,43 @@ void MomentumFlow::mark(int cell) {
   candidates_.push_back(cell);
 }
 
+void MomentumFlow::mark_face(int face, bool x) {
+  std::vector<std::uint8_t>& listed = x ? x_listed_ : y_listed_;
+  if (listed[face]) return;
+  listed[face] = 1;
+  (x ? x_faces_ : y_faces_).push_back(face);
+}
+
 void MomentumFlow::wake_all(const GranularGrid& grid) {
   for (int c = 0; c < grid.nx() * grid.ny(); ++c)
     if (grid.loose_quanta(c) > 0) mark(c);
 }
 
-double MomentumFlow::speed_m_s(int cell) const { return std::hypot(ux_[cell], uy_[cell]); }
+double MomentumFlow::velocity_x_m_s(int cell) const {
+  const int i = cell % nx_, j = cell / nx_;
+  return 0.5 * (ux_face_[x_face(i, j)] + ux_face_[x_face(i + 1, j)]);
+}
+double MomentumFlow::velocity_y_m_s(int cell) const {
+  const int i = cell % nx_, j = cell / nx_;
+  return 0.5 * (uy_face_[y_face(i, j)] + uy_face_[y_face(i, j + 1)]);
+}
+double MomentumFlow::speed_m_s(int cell) const { return std::hypot(velocity_x_m_s(cell), velocity_y_m_s(cell)); }
+
+double MomentumFlow::cross_speed_at_x_face(int i, int j) const {
+  // The y-faces of cells (i - 1, j) and (i, j).
+  double sum = 0.0;
+  int n = 0;
+  for (int ci : {i - 1, i})
+    if (ci >= 0 && ci < nx_) sum += uy_face_[y_face(ci, j)] + uy_face_[y_face(ci, j + 1)], n += 2;
+  return n > 0 ? sum / n : 0.0;
+}
+double MomentumFlow::cross_speed_at_y_face(int i, int j) const {
+  double sum = 0.0;
+  int n = 0;
+  for (int cj : {j - 1, j})
+    if (cj >= 0 && cj < ny_) sum += ux_face_[x_face(i, cj)] + ux_face_[x_face(i + 1, cj)], n += 2;
+  return n > 0 ? sum / n : 0.0;
+}
 
 void MomentumFlow::step(GranularGrid& grid) {
   last_substeps_ = 0;
@@ -116,7 +152,10 @@ void MomentumFlow::step(GranularGrid& grid) {
   double fastest = 0.0;
   auto signal = [&](int c) {
     const double h = grid.loose_quanta(c) * kHeightQuantumM;
-    return std::abs(ux_[c]) + std::abs(uy_[c]) + std::sqrt(kGravity_m_s2 * k_passive_ * h);
+    const int i = c % nx_, j = c / nx_;
+    const double u = std::max(std::abs(ux_face_[x_face(i, j)]), std::abs(ux_face_[x_face(i + 1, j)]));
+    const double v = std::max(std::abs(uy_face_[y_face(i, j)]), std::abs(uy_face_[y_face(i, j + 1)]));
+    return u + v + std::sqrt(kGravity_m_s2 * k_passive_ * h);
   };
   for (int c : moving_) fastest = std::max(fastest, signal(c));
   for (int c : candidates_) fastest = std::max(fastest, signal(c));
@@ -128,153 +167,266 @@ void MomentumFlow::step(GranularGrid& grid) {
 }
 
 void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
-  // The cells to examine: the moving ones, their neighbours and the woken ones.
+  // The cells to examine: the moving ones, their neighbours and the woken
+  // ones; the faces: every face of those.
   for (int c : moving_) {
     mark(c);
-    const int i = c % grid.nx(), j = c / grid.nx();
+    const int i = c % nx_, j = c / nx_;
     for (int k = 0; k < 4; ++k) {
       const int nb = neighbour(grid, i, j, k);
       if (nb >= 0) mark(nb);
     }
   }
+  for (int c : candidates_) {
+    const int i = c % nx_, j = c / nx_;
+    mark_face(x_face(i, j), true), mark_face(x_face(i + 1, j), true);
+    mark_face(y_face(i, j), false), mark_face(y_face(i, j + 1), false);
+  }
+  fail(grid, dt_s);
   accelerate(grid, dt_s);
   transport(grid, dt_s);
+  carry_momentum(grid);
+  settle(grid);
   for (int c : candidates_) listed_[c] = 0;
-  candidates_.clear();
+  for (int f : x_faces_) x_listed_[f] = 0, x_sent_[f] = 0;
+  for (int f : y_faces_) y_listed_[f] = 0, y_sent_[f] = 0;
+  candidates_.clear(), x_faces_.clear(), y_faces_.clear();
 }
 
-void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
-  // New flowing layers and velocities from the old state (every cell read
-  // before any is written: the result does not depend on the list's order).
-  outs_.clear();
-  for (int c : candidates_) {
-    const std::int64_t q = grid.loose_quanta(c);
-    if (q <= 0) continue;
-    const int i = c % grid.nx(), j = c / grid.nx();
-    const double b = grid.base_at(c), h_surface = grid.surface_at(c);
-    const std::int64_t flowing_old = std::min(flowing_[c], q);
-    // Neighbours' surface, flowing layer and velocity; a wall mirrors the
-    // cell (no gradient across it, the velocity reflected), a drop-off is
-    // bare base at the cell's own level.
-    double nb_h[4], nb_f[4], nb_u[4];
-    for (int k = 0; k < 4; ++k) {
-      const int nb = neighbour(grid, i, j, k);
-      const double own_u = k < 2 ? ux_[c] : uy_[c];
-      if (nb >= 0) {
-        nb_h[k] = grid.surface_at(nb), nb_f[k] = std::min(flowing_[nb], grid.loose_quanta(nb)) * kHeightQuantumM;
-        nb_u[k] = k < 2 ? ux_[nb] : uy_[nb];
-      } else {
-        nb_h[k] = nb == -1 ? b : h_surface, nb_f[k] = nb == -1 ? 0.0 : flowing_old * kHeightQuantumM;
-        nb_u[k] = nb == -1 ? own_u : -own_u;
+void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
+  // Failure: the examined cells' stable core is the highest surface under
+  // the terrain whose slope nowhere exceeds the start angle (the repose
+  // angle: the infinite-slope limit of soil at rest, docs/terrain_model.md);
+  // everything above it fails at once and joins the flowing layer, the core
+  // stays. A column so keeps its top while a < tan(repose) (Lajeunesse et
+  // al. 2004 and Lube et al. 2004 measured 0.7-0.74) and a peak fails
+  // towards every lower side. The core is a chamfer distance transform
+  // (8 neighbours) over the examined cells, the others standing at their
+  // surface; passes in raster order and back until nothing changes.
+  order_.assign(candidates_.begin(), candidates_.end());
+  std::sort(order_.begin(), order_.end());
+  for (int c : order_) core_[c] = grid.surface_at(c);
+  const double rise = d_ * mu_start_, rise_diag = rise * std::sqrt(2.0);
+  auto relax = [&](int c) {
+    const int i = c % nx_, j = c / nx_;
+    double core = core_[c];
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        if (di == 0 && dj == 0) continue;
+        const int ni = i + di, nj = j + dj;
+        double below;
+        if (!grid.contains(ni, nj)) {
+          const Edge edge = ni < 0 ? kEdgeXMin : ni >= nx_ ? kEdgeXMax : nj < 0 ? kEdgeYMin : kEdgeYMax;
+          if (grid.spec().edges[edge] != EdgeKind::kOpen) continue;
+          below = grid.base_at(c);  // a drop-off: bare base at the cell's own level
+        } else {
+          const int nb = grid.index(ni, nj);
+          if (grid.covered(nb)) continue;
+          below = listed_[nb] ? core_[nb] : grid.surface_at(nb);
+        }
+        core = std::min(core, below + (di != 0 && dj != 0 ? rise_diag : rise));
       }
+    core = std::max(core, static_cast<double>(grid.base_at(c)));
+    const bool changed = core < core_[c];
+    core_[c] = core;
+    return changed;
+  };
+  for (int pass = 0; pass < 64; ++pass) {
+    bool changed = false;
+    for (int c : order_) changed = relax(c) || changed;
+    for (auto it = order_.rbegin(); it != order_.rend(); ++it) changed = relax(*it) || changed;
+    if (!changed) break;
+  }
+  for (int c : order_) {
+    const std::int64_t q = grid.loose_quanta(c);
+    // Less than h_stop above the core does not fail (it could not flow).
+    std::int64_t failing = std::llround((grid.surface_at(c) - core_[c]) / kHeightQuantumM);
+    if (failing * kHeightQuantumM < min_layer_m_) failing = 0;
+    rain_[c] = std::min(rain_[c], q);
+    std::int64_t flowing = std::max<std::int64_t>(0, std::min(flowing_[c], q - rain_[c]));
+    if (raining_) {
+      // Raining (Larrieu, Staron and Hinch 2006): what newly fails falls
+      // freely and lands on the flowing layer with no horizontal momentum.
+      const std::int64_t newly = std::min(q, failing) - flowing - rain_[c];
+      if (newly > 0) rain_[c] += newly;
+      if (rain_[c] > 0) {
+        rain_speed_[c] += kGravity_m_s2 * dt_s;
+        const std::int64_t lands = std::min(rain_[c], std::max<std::int64_t>(1, std::llround(rain_speed_[c] * dt_s / kHeightQuantumM)));
+        rain_[c] -= lands;
+        if (rain_[c] == 0) rain_speed_[c] = 0.0;
+        const double keep = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
+        const int i = c % nx_, j = c / nx_;
+        // The faces this cell feeds carry its layer's momentum, now spread over more mass.
+        double* out[4] = {&ux_face_[x_face(i + 1, j)], &ux_face_[x_face(i, j)], &uy_face_[y_face(i, j + 1)], &uy_face_[y_face(i, j)]};
+        for (int k = 0; k < 4; ++k)
+          if ((k % 2 == 0) ? *out[k] > 0.0 : *out[k] < 0.0) *out[k] *= keep;
+        flowing += lands;
+      }
+    } else {
+      flowing = std::min(q, std::max(flowing, failing));
     }
-    // Failure (erosion): across a face steeper than the start angle (or the
-    // stop angle, where the layer already flows) the material above the
-    // stop-angle plane through the pair's mid-point fails and joins the
-    // flowing layer; the static soil under it stays.
-    const bool flows = flowing_old > 0;
-    double failing = 0.0;
-    for (int k = 0; k < 4; ++k) {
-      const double drop = h_surface - nb_h[k];
-      if (drop > d_ * (flows ? tan_stop_ : mu_start_)) failing = std::max(failing, 0.5 * (drop - d_ * tan_stop_));
-    }
-    const std::int64_t flowing =
-        std::min(q, std::max(flowing_old, static_cast<std::int64_t>(std::llround(failing / kHeightQuantumM))));
     // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
     // min_flow_layer_m, the automaton's transport layer): it lies down, and
     // the automaton's slow regime has it.
-    if (flowing == 0 || flowing * kHeightQuantumM < min_layer_m_) continue;
-    const double divergence = (nb_u[0] - nb_u[1] + nb_u[2] - nb_u[3]) / (2.0 * d_);
-    const double k_earth = divergence >= 0.0 ? k_active_ : k_passive_;
-    const double f = flowing * kHeightQuantumM;
-    // -g (grad H + (K - 1) grad f): the layer feels the surface's slope, and
-    // its own thickness's through the earth pressure (K = 1: hydrostatic).
-    const double ax = -kGravity_m_s2 * ((nb_h[0] - nb_h[1]) + (k_earth - 1.0) * (nb_f[0] - nb_f[1])) / (2.0 * d_);
-    const double ay = -kGravity_m_s2 * ((nb_h[2] - nb_h[3]) + (k_earth - 1.0) * (nb_f[2] - nb_f[3])) / (2.0 * d_);
-    double ux = ux_[c] + ax * dt_s, uy = uy_[c] + ay * dt_s;
-    // Coulomb friction on the bed (and the side walls) takes mu g dt of
-    // speed a step; the layer stops, and lies down as static soil, when that
-    // is all it has.
-    const double speed = std::hypot(ux, uy), loss = (mu_ + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
-    const double keep = speed > loss ? (speed - loss) / speed : 0.0;
-    if (keep == 0.0) continue;
-    outs_.push_back({c, {0, 0, 0, 0}, ux * keep, uy * keep, flowing});
+    if (rain_[c] == 0 && flowing * kHeightQuantumM < min_layer_m_) flowing = 0;
+    flowing_[c] = flowing;
   }
-  for (int c : candidates_) ux_[c] = uy_[c] = 0.0, flowing_[c] = 0;
-  for (const Out& o : outs_) ux_[o.cell] = o.ux, uy_[o.cell] = o.uy, flowing_[o.cell] = o.flowing;
+}
+
+void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
+  // Each face's velocity from the surfaces on its two sides (a peak pushes
+  // out across every face), the earth pressure of the flowing layers, and
+  // Coulomb friction on the bed (and the side walls) along the flow's
+  // direction; a face whose donor holds no flowing layer stands still.
+  // Every face is read before any is written.
+  auto face_velocity = [&](int a, int b, double u, double cross, int donor_plus, int donor_minus, double div_plus,
+                           double div_minus) {
+    // a, b: the cells on the face's minus and plus sides (-1 drop-off, -2 wall).
+    if (a == -2 || b == -2) return 0.0;
+    const double ha = a >= 0 ? grid.surface_at(a) - rain_[a] * kHeightQuantumM : grid.base_at(b);
+    const double hb = b >= 0 ? grid.surface_at(b) - rain_[b] * kHeightQuantumM : grid.base_at(a);
+    const double fa = a >= 0 ? flowing_[a] * kHeightQuantumM : 0.0, fb = b >= 0 ? flowing_[b] * kHeightQuantumM : 0.0;
+    // The donor is the side the face's flow would come from.
+    const double push = -(hb - ha) / d_;
+    const bool plus = u != 0.0 ? u > 0.0 : push > 0.0;
+    const int donor = plus ? donor_plus : donor_minus;
+    if (donor < 0 || flowing_[donor] == 0) return 0.0;
+    const double k_earth = (plus ? div_plus : div_minus) >= 0.0 ? k_active_ : k_passive_;
+    // -g (grad H + (K - 1) grad f): Savage-Hutter (2.23) on the face.
+    const double acc = -kGravity_m_s2 * ((hb - ha) + (k_earth - 1.0) * (fb - fa)) / d_;
+    double un = u + acc * dt_s;
+    const double f = flowing_[donor] * kHeightQuantumM;
+    const double speed = std::hypot(un, cross), loss = (mu_ + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
+    return speed > loss ? un * (speed - loss) / speed : 0.0;
+  };
+  auto divergence = [&](int cell) {
+    if (cell < 0) return 0.0;
+    const int i = cell % nx_, j = cell / nx_;
+    return ux_face_[x_face(i + 1, j)] - ux_face_[x_face(i, j)] + uy_face_[y_face(i, j + 1)] - uy_face_[y_face(i, j)];
+  };
+  auto cell_or_edge = [&](int i, int j, Edge edge) {
+    if (!grid.contains(i, j)) return grid.spec().edges[edge] == EdgeKind::kOpen ? -1 : -2;
+    const int c = grid.index(i, j);
+    return grid.covered(c) ? -2 : c;
+  };
+  new_x_.resize(x_faces_.size());
+  new_y_.resize(y_faces_.size());
+  for (std::size_t n = 0; n < x_faces_.size(); ++n) {
+    const int f = x_faces_[n], i = f % (nx_ + 1), j = f / (nx_ + 1);
+    const int a = cell_or_edge(i - 1, j, kEdgeXMin), b = cell_or_edge(i, j, kEdgeXMax);
+    new_x_[n] = face_velocity(a, b, ux_face_[f], cross_speed_at_x_face(i, j), a, b, divergence(a), divergence(b));
+  }
+  for (std::size_t n = 0; n < y_faces_.size(); ++n) {
+    const int f = y_faces_[n], i = f % nx_, j = f / nx_;
+    const int a = cell_or_edge(i, j - 1, kEdgeYMin), b = cell_or_edge(i, j, kEdgeYMax);
+    new_y_[n] = face_velocity(a, b, uy_face_[f], cross_speed_at_y_face(i, j), a, b, divergence(a), divergence(b));
+  }
+  for (std::size_t n = 0; n < x_faces_.size(); ++n) ux_face_[x_faces_[n]] = new_x_[n];
+  for (std::size_t n = 0; n < y_faces_.size(); ++n) uy_face_[y_faces_[n]] = new_y_[n];
 }
 
 void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
-  // Donor cell: a moving cell sends h |u| dt / d along the sign of each
-  // component, rounded to quanta, from the state before the sub-step.
-  for (Out& o : outs_) {
-    const int c = o.cell, i = c % grid.nx(), j = c / grid.nx();
-    const std::int64_t q = o.flowing;
-    const double frac[4] = {std::max(o.ux, 0.0), std::max(-o.ux, 0.0), std::max(o.uy, 0.0), std::max(-o.uy, 0.0)};
-    std::int64_t total = 0;
+  // Donor cell: a flowing layer f sends f |u| dt / d across each face whose
+  // velocity leaves it, rounded to quanta, all from the state before the
+  // sub-step (scaled down, exactly within f, only past the Courant bound).
+  new_flowing_.clear();
+  for (int c : candidates_) {
+    const std::int64_t q = flowing_[c];
+    if (q == 0) continue;
+    const int i = c % nx_, j = c / nx_;
+    const int faces[4] = {x_face(i + 1, j), x_face(i, j), y_face(i, j + 1), y_face(i, j)};
+    const double u[4] = {std::max(ux_face_[faces[0]], 0.0), std::max(-ux_face_[faces[1]], 0.0),
+                         std::max(uy_face_[faces[2]], 0.0), std::max(-uy_face_[faces[3]], 0.0)};
+    std::int64_t out[4] = {0, 0, 0, 0}, total = 0;
+    for (int k = 0; k < 4; ++k) total += out[k] = std::llround(static_cast<double>(q) * u[k] * dt_s / d_);
+    if (total > q)
+      for (int k = 0; k < 4; ++k) out[k] = out[k] * q / total;
     for (int k = 0; k < 4; ++k) {
-      if (frac[k] == 0.0) continue;
-      if (neighbour(grid, i, j, k) == -2) {
-        // A wall stops the component into it (an inelastic wall).
-        if (k < 2) ux_[c] = o.ux = 0.0;
-        else uy_[c] = o.uy = 0.0;
-        continue;
-      }
-      o.q[k] = std::llround(static_cast<double>(q) * frac[k] * dt_s / d_);
-      total += o.q[k];
-    }
-    if (total > q)  // only past the Courant bound; scale down, exactly within q
-      for (int k = 0; k < 4; ++k) o.q[k] = o.q[k] * q / total;
-  }
-  // Momentum goes with the flowing material: what stays keeps its velocity,
-  // what arrives joins the receiver's flowing layer with its donor's.
-  std::vector<int>& touched = moving_;
-  touched.clear();
-  for (const Out& o : outs_) {
-    const int c = o.cell, i = c % grid.nx(), j = c / grid.nx();
-    std::int64_t sent = 0;
-    for (int k = 0; k < 4; ++k) sent += o.q[k];
-    leaving_[c] += sent;
-    touched.push_back(c);
-    for (int k = 0; k < 4; ++k) {
-      if (o.q[k] == 0) continue;
+      if (out[k] == 0) continue;
       const int nb = neighbour(grid, i, j, k);
-      if (nb < 0) continue;
-      mom_x_[nb] += static_cast<double>(o.q[k]) * o.ux;
-      mom_y_[nb] += static_cast<double>(o.q[k]) * o.uy;
-      arriving_[nb] += o.q[k];
-      touched.push_back(nb);
+      if (nb == -2) continue;  // a face into a wall stands still (accelerate)
+      grid.transfer_quanta(c, nb, out[k], kEdgeOf[k]);
+      (k < 2 ? x_sent_ : y_sent_)[faces[k]] += k % 2 == 0 ? out[k] : -out[k];
+      new_flowing_.emplace_back(c, -out[k]);
+      if (nb >= 0) new_flowing_.emplace_back(nb, out[k]);
     }
   }
-  // Every donor holds what it sends (its outflows come from its own flowing
-  // layer before the sub-step, and inflows only add).
-  for (const Out& o : outs_) {
-    const int c = o.cell, i = c % grid.nx(), j = c / grid.nx();
-    for (int k = 0; k < 4; ++k)
-      if (o.q[k] != 0) grid.transfer_quanta(c, neighbour(grid, i, j, k), o.q[k], kEdgeOf[k]);
+  for (const auto& [c, dq] : new_flowing_) flowing_[c] += dq;
+}
+
+void MomentumFlow::carry_momentum(const GranularGrid& grid) {
+  // Momentum goes with the material (Stelling and Duinmeijer 2003's
+  // momentum-conserving upwind form): a face's velocity is that of its
+  // donor's flowing layer, which is what stayed there at the face's velocity
+  // mixed with what arrived across the donor's upstream face at that face's.
+  // A front face (a bare cell ahead) so takes the speed of the material
+  // behind it.
+  auto mixed = [&](double u, int donor, int upstream_face, const std::vector<double>& vel,
+                   const std::vector<std::int64_t>& sent, bool plus) {
+    if (donor < 0 || flowing_[donor] <= 0) return u;
+    const std::int64_t in = plus ? sent[upstream_face] : -sent[upstream_face];
+    if (in <= 0) return u;
+    const double f = static_cast<double>(flowing_[donor]), w = std::min(1.0, static_cast<double>(in) / f);
+    return (1.0 - w) * u + w * vel[upstream_face];
+  };
+  new_x_.resize(x_faces_.size());
+  new_y_.resize(y_faces_.size());
+  for (std::size_t n = 0; n < x_faces_.size(); ++n) {
+    const int f = x_faces_[n], i = f % (nx_ + 1), j = f / (nx_ + 1);
+    const double u = ux_face_[f];
+    new_x_[n] = u;
+    if (u > 0.0 && i - 1 >= 0) new_x_[n] = mixed(u, grid.index(i - 1, j), x_face(i - 1, j), ux_face_, x_sent_, true);
+    if (u < 0.0 && i < nx_) new_x_[n] = mixed(u, grid.index(i, j), x_face(i + 1, j), ux_face_, x_sent_, false);
   }
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  // The flowing layer's new velocity: its momentum over its mass. Cells
-  // whose layer left, stopped or thinned below h_stop drop out of the moving
-  // list (their material lies down).
-  std::size_t kept = 0;
-  for (int c : touched) {
-    const std::int64_t before = flowing_[c];
-    const std::int64_t stays = before - leaving_[c];
-    const std::int64_t after = std::min(grid.loose_quanta(c), stays + arriving_[c]);
-    const double mx = static_cast<double>(stays) * ux_[c] + mom_x_[c];
-    const double my = static_cast<double>(stays) * uy_[c] + mom_y_[c];
-    mom_x_[c] = mom_y_[c] = 0.0;
-    arriving_[c] = leaving_[c] = 0;
-    flowing_[c] = std::max<std::int64_t>(after, 0);
-    ux_[c] = flowing_[c] > 0 ? mx / static_cast<double>(flowing_[c]) : 0.0;
-    uy_[c] = flowing_[c] > 0 ? my / static_cast<double>(flowing_[c]) : 0.0;
-    if (flowing_[c] > 0 && flowing_[c] * kHeightQuantumM >= min_layer_m_ && (ux_[c] != 0.0 || uy_[c] != 0.0))
-      touched[kept++] = c;
-    else ux_[c] = uy_[c] = 0.0, flowing_[c] = 0;
+  for (std::size_t n = 0; n < y_faces_.size(); ++n) {
+    const int f = y_faces_[n], i = f % nx_, j = f / nx_;
+    const double u = uy_face_[f];
+    new_y_[n] = u;
+    if (u > 0.0 && j - 1 >= 0) new_y_[n] = mixed(u, grid.index(i, j - 1), y_face(i, j - 1), uy_face_, y_sent_, true);
+    if (u < 0.0 && j < ny_) new_y_[n] = mixed(u, grid.index(i, j), y_face(i, j + 1), uy_face_, y_sent_, false);
   }
-  touched.resize(kept);
+  for (std::size_t n = 0; n < x_faces_.size(); ++n) ux_face_[x_faces_[n]] = new_x_[n];
+  for (std::size_t n = 0; n < y_faces_.size(); ++n) uy_face_[y_faces_[n]] = new_y_[n];
+}
+
+void MomentumFlow::settle(const GranularGrid& grid) {
+  // The moving cells: a flowing layer of at least h_stop with a face that
+  // moves. A layer that has stopped, or thinned below h_stop, lies down as
+  // static soil, and the faces it fed stand still.
+  moving_.clear();
+  for (int c : candidates_) {
+    rain_[c] = std::min(rain_[c], grid.loose_quanta(c));
+    flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
+    if (rain_[c] == 0 && flowing_[c] * kHeightQuantumM < min_layer_m_) flowing_[c] = 0;
+  }
+  // Cells that only received this sub-step are among the candidates (the
+  // moving cells' neighbours), so every changed layer is seen above.
+  auto donor_still = [&](int a, int b, double u) {
+    const int donor = u > 0.0 ? a : b;
+    return donor >= 0 && flowing_[donor] > 0;
+  };
+  for (int f : x_faces_) {
+    const int i = f % (nx_ + 1), j = f / (nx_ + 1);
+    const int a = i - 1 >= 0 ? grid.index(i - 1, j) : -1, b = i < nx_ ? grid.index(i, j) : -1;
+    if (ux_face_[f] != 0.0 && !donor_still(a, b, ux_face_[f])) ux_face_[f] = 0.0;
+  }
+  for (int f : y_faces_) {
+    const int i = f % nx_, j = f / nx_;
+    const int a = j - 1 >= 0 ? grid.index(i, j - 1) : -1, b = j < ny_ ? grid.index(i, j) : -1;
+    if (uy_face_[f] != 0.0 && !donor_still(a, b, uy_face_[f])) uy_face_[f] = 0.0;
+  }
+  for (int c : candidates_) {
+    if (rain_[c] > 0) {
+      moving_.push_back(c);
+      continue;
+    }
+    if (flowing_[c] == 0) continue;
+    const int i = c % nx_, j = c / nx_;
+    const bool moves = ux_face_[x_face(i, j)] != 0.0 || ux_face_[x_face(i + 1, j)] != 0.0 ||
+                       uy_face_[y_face(i, j)] != 0.0 || uy_face_[y_face(i, j + 1)] != 0.0;
+    if (moves) moving_.push_back(c);
+    else flowing_[c] = 0;
+  }
 }
 
 }  // namespace skidsim::terrain

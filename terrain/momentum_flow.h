@@ -3,15 +3,30 @@
 // "The motion of a finite mass of granular material down a rough incline",
 // J. Fluid Mech. 199), docs/terrain_model.md section "Fast flows".
 //
-// Each moving cell carries a velocity u (m/s, in the grid's plane) for the
-// material it holds:
-//   dh/dt + div(h u) = 0
-//   du/dt + (u . grad) u = -g (grad b + K grad h) - mu g u / |u|
-// with b the base, h the material, K the earth-pressure coefficient (active
-// where the flow spreads, passive where it converges; Savage-Hutter (2.23))
-// and Coulomb friction mu on the bed. A cell at rest starts when the driving
-// acceleration exceeds g tan(repose); a moving one stops when friction takes
-// its speed in a step (the thesis's stop angle is the moving friction).
+// The flowing layer f (quanta per cell, above the static soil) moves with
+// velocities on the cells' faces (a staggered grid, so that a peak pushes
+// out across every face):
+//   df/dt + div(f u) = 0
+//   du/dt + (u . grad) u = -g (grad H + (K - 1) grad f) - mu g u / |u|
+// with H the surface, K the earth-pressure coefficient (active where the
+// flow spreads, passive where it converges; Savage-Hutter (2.23)) and
+// Coulomb friction mu on the bed: the soil's stop angle, the mu_s of the
+// mu(I) law (Pouliquen 1999, Jop et al. 2006: the angle at which a thick
+// flow stops). Advection is Stelling and Duinmeijer's (2003) momentum-
+// conserving upwind form: a face's velocity mixes with what arrives at its
+// donor cell.
+//
+// Failure: the stable core under the examined cells is the highest surface
+// under the terrain whose slope nowhere exceeds the repose angle; all
+// material above it fails at once. A column keeps its top while a <
+// tan(repose) (0.69 for 34.6 deg; Lajeunesse et al. 2004 measured 0.74).
+// Raining (Larrieu, Staron and Hinch 2006, "Raining into shallow water as a
+// description of the collapse of a column of grains", J. Fluid Mech. 554):
+// failed material falls freely in its cell and lands on the flowing layer
+// with no horizontal momentum, losing its fall's energy at the impact as
+// grains do; the hydrostatic alternative (everything failed flows at once)
+// over-runs tall columns, because a shallow layer turns the whole column's
+// height into horizontal pressure (raining = false keeps it selectable).
 // Material moves by exact integer transfers between cells (the grid's
 // transfer_quanta), so the ledger stays exact; momentum goes with the
 // material that carries it.
@@ -31,7 +46,7 @@ namespace skidsim::terrain {
 struct MomentumFlowParameters {
   // Coulomb friction of a moving layer on its bed (deg); 0: the soil's stop angle.
   double bed_friction_deg = 0.0;
-  // The angle whose tangent a cell at rest must be driven past to start (deg); 0: the soil's repose angle.
+  // The steepest slope of the stable core (deg): material above it fails; 0: the soil's repose angle.
   double start_friction_deg = 0.0;
   // Earth-pressure coefficient K; 0: Savage-Hutter's active and passive
   // values from the internal friction (the repose angle) and the bed friction.
@@ -45,6 +60,9 @@ struct MomentumFlowParameters {
   // surface flows", J. Fluid Mech. 541).
   double side_wall_gap_m = 0.0;
   double side_wall_friction_deg = 0.0;
+  // Failed material falls freely and lands without horizontal momentum
+  // (Larrieu et al. 2006); false: it joins the flowing layer at once.
+  bool raining = true;
   int max_substeps = 64;
 };
 
@@ -67,9 +85,11 @@ class MomentumFlow {
   void step(GranularGrid& grid);
 
   double speed_m_s(int cell) const;
-  double velocity_x_m_s(int cell) const { return ux_[cell]; }
-  double velocity_y_m_s(int cell) const { return uy_[cell]; }
+  // The velocity at a cell's centre: the mean of its two faces along each axis.
+  double velocity_x_m_s(int cell) const;
+  double velocity_y_m_s(int cell) const;
   double flowing_m(int cell) const { return flowing_[cell] * kHeightQuantumM; }
+  double raining_m(int cell) const { return rain_[cell] * kHeightQuantumM; }
   std::size_t moving_cells() const { return moving_.size(); }
   const std::vector<int>& moving() const { return moving_; }
   int last_substeps() const { return last_substeps_; }
@@ -77,32 +97,46 @@ class MomentumFlow {
   double start_friction_tan() const { return mu_start_; }
   double earth_pressure_active() const { return k_active_; }
   double earth_pressure_passive() const { return k_passive_; }
-  // Bytes of state per cell (velocity, flags); the moving list comes on top.
-  static constexpr std::size_t kStateBytesPerCell = 2 * sizeof(double) + sizeof(std::int64_t) + sizeof(std::uint8_t);
+  // Bytes of state per cell: two face velocities, the flowing and raining
+  // layers, the rain's speed, the core, the quanta across two faces in a
+  // sub-step and three flags; the moving list comes on top.
+  static constexpr std::size_t kStateBytesPerCell =
+      4 * sizeof(double) + 4 * sizeof(std::int64_t) + 3 * sizeof(std::uint8_t);
 
  private:
+  // Faces: x-face (i, j) lies between cells (i - 1, j) and (i, j), i in
+  // [0, nx]; y-face (i, j) between (i, j - 1) and (i, j), j in [0, ny].
+  int x_face(int i, int j) const { return j * (nx_ + 1) + i; }
+  int y_face(int i, int j) const { return j * nx_ + i; }
   void substep(GranularGrid& grid, double dt_s);
+  void fail(const GranularGrid& grid, double dt_s);
   void accelerate(const GranularGrid& grid, double dt_s);
   void transport(GranularGrid& grid, double dt_s);
+  void carry_momentum(const GranularGrid& grid);
+  void settle(const GranularGrid& grid);
   void mark(int cell);
+  void mark_face(int face, bool x);
+  // The speed of a face from the other direction's four faces around it.
+  double cross_speed_at_x_face(int i, int j) const;
+  double cross_speed_at_y_face(int i, int j) const;
 
+  int nx_ = 0, ny_ = 0;
   double step_dt_s_ = 0.0, d_ = 0.0;
   double mu_ = 0.0, mu_start_ = 0.0, tan_stop_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
-  std::vector<double> ux_, uy_;
-  std::vector<std::uint8_t> listed_;
-  std::vector<int> moving_, candidates_;
-  // Per sub-step scratch: what each listed cell sends along +x, -x, +y, -y.
-  struct Out {
-    int cell;
-    std::int64_t q[4];
-    double ux, uy;
-    std::int64_t flowing;  // the flowing layer's quanta
-  };
-  std::vector<Out> outs_;
-  std::vector<double> mom_x_, mom_y_;  // momentum arriving, quanta m/s
-  std::vector<std::int64_t> flowing_;   // per cell: quanta of its flowing layer (<= its material)
-  std::vector<std::int64_t> arriving_, leaving_;  // per sub-step: flowing quanta in and out
+  bool raining_ = true;
+  std::vector<double> ux_face_, uy_face_;   // m/s on the faces
+  std::vector<std::int64_t> flowing_;       // per cell: quanta of its flowing layer (<= its material)
+  std::vector<std::uint8_t> listed_, x_listed_, y_listed_;
+  std::vector<int> moving_, candidates_, x_faces_, y_faces_;
+  // Per sub-step scratch.
+  std::vector<std::pair<int, std::int64_t>> new_flowing_;
+  std::vector<int> order_;   // the examined cells in raster order
+  std::vector<std::int64_t> rain_;  // per cell: quanta falling freely onto its flowing layer
+  std::vector<double> rain_speed_;  // their speed (m/s)
+  std::vector<double> core_;  // per cell: the stable core's surface (m), examined cells only
+  std::vector<double> new_x_, new_y_;              // the listed faces' new velocities
+  std::vector<std::int64_t> x_sent_, y_sent_;       // quanta across each face this sub-step (signed along +x, +y)
 };
 
 }  // namespace skidsim::terrain
