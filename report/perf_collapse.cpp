@@ -14,6 +14,7 @@
 #include "common/physical_constants.h"
 #include "experiments/column_collapse.h"
 #include "io/soil_table.h"
+#include "report/dem_columns.h"
 #include "report/perf_report_parts.h"
 
 namespace skidsim::report::perf {
@@ -25,36 +26,6 @@ namespace {
 using terrain::CollapseCase;
 using terrain::CollapseRun;
 using terrain::GroundModel;
-
-// One LIGGGHTS column: a row of dem/collapse/results/summary.csv.
-struct DemColumn {
-  bool slot = false;
-  double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
-  std::vector<std::pair<double, double>> front;  // t / sqrt(H0 / g), (r99 - r99(0)) / r0
-};
-
-std::vector<DemColumn> read_dem_columns(const fs::path& dir) {
-  const fs::path summary = dir / "summary.csv";
-  const CsvNumbers csv = read_csv_numbers(summary);
-  std::vector<DemColumn> out;
-  for (const auto& row : csv.rows) {
-    DemColumn c;
-    c.slot = row[csv.column("slot", summary)] != 0.0;
-    c.aspect = row[csv.column("aspect_ratio", summary)];
-    c.runout = row[csv.column("runout_r99_rel", summary)];
-    c.edge_runout = row[csv.column("runout_edge_rel", summary)];
-    c.height = row[csv.column("final_height_rel", summary)];
-    c.t_stop_scaled = row[csv.column("t_stop_over_sqrt_H0_g", summary)];
-    const double r0 = row[csv.column("r0_m", summary)], h0 = row[csv.column("H0_m", summary)];
-    const fs::path front = dir / ("front_" + std::string(c.slot ? "slot" : "tube") + "_a" + fmt("%g", c.aspect) + ".csv");
-    const CsvNumbers f = read_csv_numbers(front);
-    const std::size_t t = f.column("t_s", front), r = f.column("front_r99_m", front);
-    for (const auto& fr : f.rows)
-      c.front.emplace_back(fr[t] / std::sqrt(h0 / kGravity_m_s2), (fr[r] - f.rows.front()[r]) / r0);
-    out.push_back(c);
-  }
-  return out;
-}
 
 std::string case_name(const DemColumn& c) { return std::string(c.slot ? "slot" : "tube") + ", a = " + fmt("%g", c.aspect); }
 
@@ -72,22 +43,21 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   const terrain::SoilFlowParameters& sand = dem_sand.flow;
   const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.05};
   // Today's two ground models, and the automaton with the fast-flow
-  // prototype (terrain/momentum_flow.h), its bed friction the soil's
-  // internal friction from the DEM's shear box (dem_sand's friction_angle_deg).
+  // prototype (terrain/momentum_flow.h) at its defaults: bed friction the
+  // soil's stop angle, the core at its repose angle, raining; and without
+  // raining (the hydrostatic shallow layer).
   struct Variant {
     std::string name;
     GroundModel model;
-    bool momentum;
+    bool momentum, raining;
   };
   const terrain::SoilMechanics& sand_mech = dem_sand.terramechanics;
-  const double shear_box_phi_deg = sand_mech.friction_angle_deg;
-  // The DEM slot's steel side walls: the steel sliding plate's delta.
-  const double steel_delta_deg = sand_mech.tool_friction_angle_deg;
   const std::vector<Variant> variants =
-      ctx.quick ? std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false}}
-                : std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false},
-                                       {"slippage", GroundModel::kSlippage, false},
-                                       {"automaton + momentum", GroundModel::kAutomaton, true}};
+      ctx.quick ? std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false, false}}
+                : std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false, false},
+                                       {"slippage", GroundModel::kSlippage, false, false},
+                                       {"automaton + momentum", GroundModel::kAutomaton, true, true},
+                                       {"momentum, hydrostatic", GroundModel::kAutomaton, true, false}};
 
   Curve runout_dem{"DEM", {}}, height_dem{"DEM", {}};
   std::vector<Curve> runout_sk, height_sk, fronts;
@@ -110,36 +80,28 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       bool books = true;
       for (std::size_t k = 0; k < dem.size(); ++k) {
         const DemColumn& d = dem[k];
-        CollapseCase c;
-        c.slot = d.slot;
-        c.aspect = d.aspect;
-        c.cell_m = cell;
-        c.momentum = v.momentum;
-        c.momentum_params.bed_friction_deg = c.momentum_params.start_friction_deg = shear_box_phi_deg;
-        c.slot_wall_friction_deg = steel_delta_deg;
+        const CollapseCase c = dem_column_case(d, cell, v.momentum, v.raining, sand_mech);
         const CollapseRun run = terrain::run_column_collapse(c, soil);
         worst = std::max(worst, column_error(d, run));
         wall += run.wall_s, simulated += run.steps * c.step_dt_s;
         books = books && run.books_exact;
         if (!d.slot) runout.points.emplace_back(d.aspect, run.runout_over_r0), height.points.emplace_back(d.aspect, run.final_height_over_r0);
+        const auto front = scaled_front(run);
         if (!d.slot && d.aspect == 2.0) {
           Curve f{label, {}};
-          const double t_scale = std::sqrt(c.aspect * c.r0_m / kGravity_m_s2);
-          for (const auto& fr : run.frames) {
-            if (fr.t_s / t_scale > 12.0) break;
-            f.points.emplace_back(fr.t_s / t_scale, (fr.front_r99_m - run.frames.front().front_r99_m) / c.r0_m);
-          }
+          for (const auto& p : front)
+            if (p.first <= 12.0) f.points.push_back(p);
           fronts.push_back(f);
         }
-        cells_rows[k] += " | " + fmt("%.2f", run.runout_over_r0) + " / " + fmt("%.2f", run.final_height_over_r0) +
-                         (run.at_rest ? "" : " (moving)");
+        cells_rows[k] += " | " + fmt("%.2f", run.runout_over_r0) + " / " + fmt("%.2f", run.final_height_over_r0) + " / " +
+                         fmt("%.1f", front_arrival(front, 0.9)) + (run.at_rest ? "" : " (moving)");
       }
       runout_sk.push_back(runout), height_sk.push_back(height);
       rungs.push_back({label, simulated > 0.0 ? wall / simulated : 0.0, worst,
                        std::string("books ") + (books ? "exact" : "NOT exact") + " over every run"});
     }
   }
-  std::string header = "| column | DEM: run-out / height / t_stop |";
+  std::string header = "| column | DEM: run-out / height / t90 |";
   std::string rule = "|---|---|";
   for (const Variant& v : variants)
     for (double cell : cells) {
@@ -148,7 +110,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
     }
   for (std::size_t k = 0; k < dem.size(); ++k)
     rows += "| " + case_name(dem[k]) + " | " + fmt("%.2f", dem[k].runout) + " / " + fmt("%.2f", dem[k].height) + " / " +
-            fmt("%.1f", dem[k].t_stop_scaled) + cells_rows[k] + " |\n";
+            fmt("%.1f", front_arrival(dem[k].front, 0.9)) + cells_rows[k] + " |\n";
 
   ReportSection s;
   std::vector<Curve> runout_curves{runout_dem}, height_curves{height_dem};
@@ -169,14 +131,17 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "so that 10 and 5 cm cells are 10 and 20 per radius; collapses of cohesionless grains depend on a and the "
       "material's friction, not on r0 (Lajeunesse et al. 2004, Lube et al. 2004). Run-out: the advance of the "
       "distance within which 99 % of the mass lies, over r0; height: the column's at the axis (or the back wall) "
-      "at rest, over r0; t_stop: when the DEM's kinetic energy falls below 1e-3 of its peak, over sqrt(H0 / g). "
+      "at rest, over r0; t90: when the front first reaches 90 % of its final advance, over sqrt(H0 / g). "
       "The automaton moves soil at most at its rolling-layer rate and stops it at the repose angle, so fast flows "
       "run out short and stand tall; the slippage model likewise. \"automaton + momentum\" is the fast-flow "
-      "prototype (terrain/momentum_flow.h, docs/terrain_model.md): soil steeper than the repose angle fails into "
-      "a flowing layer that carries a depth-averaged velocity (Savage-Hutter, Coulomb friction on its bed at the "
-      "DEM shear box's " + fmt("%.1f", shear_box_phi_deg) + " deg; in the slot, also on its side walls at the steel "
-      "sliding plate's " + fmt("%.1f", steel_delta_deg) + " deg) until friction stops it; it runs beside the "
-      "automaton, which keeps the slow avalanches. Each cell: run-out / height.\n\n" +
+      "prototype (terrain/momentum_flow.h, docs/terrain_model.md): everything above the stable core (the highest "
+      "surface no steeper than the repose angle, " + fmt("%.1f", sand.repose_angle_deg) + " deg) fails, falls "
+      "freely and lands on a flowing layer without horizontal momentum (raining, Larrieu et al. 2006); the layer "
+      "carries velocities on the cells' faces (Savage-Hutter, Coulomb friction on its bed at the stop angle, " +
+      fmt("%.1f", sand.stop_angle_deg) + " deg, the mu_s of the mu(I) law; in the slot, also on its side walls at "
+      "the steel sliding plate's " + fmt("%.1f", sand_mech.tool_friction_angle_deg) + " deg) until friction stops "
+      "it; it runs beside the automaton, which keeps the slow avalanches. \"momentum, hydrostatic\" is the same "
+      "without raining: the failed mass flows at once. Each cell: run-out / height / t90.\n\n" +
       header + "\n" + rule + "\n" + rows + "\n" + table(rungs, "worst relative error (run-out, height)", kCostPerSimulatedSecond, "model, cells") +
       "\n![" + runout_svg + "](" + runout_svg + ") ![" + height_svg + "](" + height_svg + ")\n\n![" + front_svg + "](" +
       front_svg + ") ![" + error_svg + "](" + error_svg + ")\n";

@@ -1,0 +1,65 @@
+#include "report/dem_columns.h"
+
+#include <cmath>
+#include <string>
+
+#include "common/physical_constants.h"
+#include "report/perf_report_parts.h"
+
+namespace skidsim::report::perf {
+
+namespace fs = std::filesystem;
+
+std::vector<DemColumn> read_dem_columns(const fs::path& dir) {
+  const fs::path summary = dir / "summary.csv";
+  const CsvNumbers csv = read_csv_numbers(summary);
+  std::vector<DemColumn> out;
+  for (const auto& row : csv.rows) {
+    DemColumn c;
+    c.slot = row[csv.column("slot", summary)] != 0.0;
+    c.aspect = row[csv.column("aspect_ratio", summary)];
+    c.runout = row[csv.column("runout_r99_rel", summary)];
+    c.edge_runout = row[csv.column("runout_edge_rel", summary)];
+    c.height = row[csv.column("final_height_rel", summary)];
+    c.t_stop_scaled = row[csv.column("t_stop_over_sqrt_H0_g", summary)];
+    const double r0 = row[csv.column("r0_m", summary)], h0 = row[csv.column("H0_m", summary)];
+    const fs::path front = dir / ("front_" + std::string(c.slot ? "slot" : "tube") + "_a" + fmt("%g", c.aspect) + ".csv");
+    const CsvNumbers f = read_csv_numbers(front);
+    const std::size_t t = f.column("t_s", front), r = f.column("front_r99_m", front);
+    for (const auto& fr : f.rows)
+      c.front.emplace_back(fr[t] / std::sqrt(h0 / kGravity_m_s2), (fr[r] - f.rows.front()[r]) / r0);
+    out.push_back(c);
+  }
+  return out;
+}
+
+terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining,
+                                      const terrain::SoilMechanics& soil) {
+  terrain::CollapseCase c;
+  c.slot = dem.slot;
+  c.aspect = dem.aspect;
+  c.cell_m = cell_m;
+  c.momentum = momentum;
+  c.momentum_params.raining = raining;
+  c.slot_wall_friction_deg = soil.tool_friction_angle_deg;
+  return c;
+}
+
+double front_arrival(const std::vector<std::pair<double, double>>& front, double fraction) {
+  if (front.empty()) return 0.0;
+  const double target = fraction * front.back().second;
+  for (const auto& [t, x] : front)
+    if (x >= target) return t;
+  return front.back().first;
+}
+
+std::vector<std::pair<double, double>> scaled_front(const terrain::CollapseRun& run) {
+  std::vector<std::pair<double, double>> out;
+  const double t_scale = std::sqrt(run.c.aspect * run.c.r0_m / kGravity_m_s2);
+  for (const auto& fr : run.frames)
+    out.emplace_back(fr.t_s / t_scale, (fr.front_r99_m - run.frames.front().front_r99_m) / run.c.r0_m);
+  out.emplace_back(run.final_state.t_s / t_scale, run.runout_over_r0);
+  return out;
+}
+
+}  // namespace skidsim::report::perf

@@ -1,0 +1,42 @@
+// The DEM reference's collapsing columns (dem/collapse/results,
+// scripts/dem_reference.sh) and skidsim's column in the same case, in
+// dimensionless form: run-out and final height over r0, the front against
+// t / sqrt(H0 / g). The DEM's columns are lab-sized (r0 = 0.1 m, 8 mm
+// grains); skidsim's is scaled to r0 = 1 m in `dem_sand`
+// (experiments/column_collapse.h). Used by `skidsim bench report`
+// (perf_collapse.cpp) and its tests.
+#pragma once
+
+#include <filesystem>
+#include <utility>
+#include <vector>
+
+#include "experiments/column_collapse.h"
+#include "terrain/soil_mechanics.h"
+
+namespace skidsim::report::perf {
+
+// One LIGGGHTS column: a row of dem/collapse/results/summary.csv and its
+// front_*.csv.
+struct DemColumn {
+  bool slot = false;
+  double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
+  std::vector<std::pair<double, double>> front;  // t / sqrt(H0 / g), (r99 - r99(0)) / r0
+};
+
+// Throws std::runtime_error naming the file and column when one is missing.
+std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dir);
+
+// The DEM column's case on the grid at `cell_m`: the slot's steel walls at
+// the soil's tool friction angle (the steel sliding plate's), the fast-flow
+// prototype on when `momentum`, at its defaults (bed friction the stop
+// angle, the core at the repose angle, raining) unless `raining` is false.
+terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining,
+                                      const terrain::SoilMechanics& soil);
+
+// When the front first reaches `fraction` of its final advance, over
+// sqrt(H0 / g); points as DemColumn::front.
+double front_arrival(const std::vector<std::pair<double, double>>& front, double fraction);
+std::vector<std::pair<double, double>> scaled_front(const terrain::CollapseRun& run);
+
+}  // namespace skidsim::report::perf
