@@ -124,6 +124,7 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   }
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.steps = s;
+  run.flow_at_rest = !flow || flow->moving_cells() == 0;
   run.final_state = measure_collapse(g, c, s * c.step_dt_s);
   run.books_exact = run.books_exact && g.ledger().balanced();
   const CollapseFrame& first = run.frames.front();

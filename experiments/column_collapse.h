@@ -58,6 +58,7 @@ struct CollapseRun {
   double final_height_over_r0 = 0.0;
   double t_stop_s = 0.0;   // the first step that moved nothing (max_time_s if none)
   bool at_rest = false;
+  bool flow_at_rest = false;  // the momentum layer (if any) moved nothing at the end
   bool books_exact = false;  // the ledger balanced at every frame
   double wall_s = 0.0;
   int steps = 0;

@@ -45,7 +45,8 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   const double start_deg = params.start_friction_deg > 0.0 ? params.start_friction_deg : soil.repose_angle_deg;
   if (!(bed_deg > 0.0 && bed_deg < 89.0 && start_deg >= bed_deg && start_deg < 89.0))
     throw std::invalid_argument("momentum flow: bed friction must be in (0, 89) deg and at most the start friction");
-  if (!(courant_ > 0.0 && courant_ <= 0.5)) throw std::invalid_argument("momentum flow: courant must be in (0, 0.5]");
+  if (!(courant_ > 0.0 && (courant_ <= 0.5 || (params.study_past_bound && courant_ <= 8.0))))
+    throw std::invalid_argument("momentum flow: courant must be in (0, 0.5] (up to 8 in a study past the bound)");
   mu_ = tan_deg(bed_deg);
   if (params.side_wall_gap_m > 0.0) {
     if (!(params.side_wall_friction_deg >= 0.0 && params.side_wall_friction_deg < 89.0))
@@ -95,6 +96,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   core_.assign(n, 0.0);
   rain_.assign(n, 0);
   rain_speed_.assign(n, 0.0);
+  fell_.assign(n, 0);
   tan_stop_ = tan_deg(soil.stop_angle_deg);
   min_layer_m_ = soil.min_flow_layer_m;
 }
@@ -246,14 +248,25 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     std::int64_t flowing = std::max<std::int64_t>(0, std::min(flowing_[c], q - rain_[c]));
     if (raining_) {
       // Raining (Larrieu, Staron and Hinch 2006): what newly fails falls
-      // freely and lands on the flowing layer with no horizontal momentum.
+      // freely in its cell, from rest, and lands on the layer beneath at its
+      // fall's speed g t with no horizontal momentum (the column above stays
+      // in contact with what it lands on). A cell whose rain has landed takes
+      // what fails there afterwards into its flowing layer at once: the fall
+      // is the release from rest, once an event (until nothing there fails).
       const std::int64_t newly = std::min(q, failing) - flowing - rain_[c];
-      if (newly > 0) rain_[c] += newly;
+      if (failing == 0) fell_[c] = 0;
+      if (newly > 0 && fell_[c] && rain_[c] == 0) {
+        flowing += newly;
+      } else if (newly > 0) {
+        if (rain_[c] == 0) rain_speed_[c] = 0.0;
+        rain_[c] += newly;
+      }
       if (rain_[c] > 0) {
         rain_speed_[c] += kGravity_m_s2 * dt_s;
-        const std::int64_t lands = std::min(rain_[c], std::max<std::int64_t>(1, std::llround(rain_speed_[c] * dt_s / kHeightQuantumM)));
+        const std::int64_t lands =
+            std::clamp<std::int64_t>(std::llround(rain_speed_[c] * dt_s / kHeightQuantumM), 1, rain_[c]);
         rain_[c] -= lands;
-        if (rain_[c] == 0) rain_speed_[c] = 0.0;
+        if (rain_[c] == 0) fell_[c] = 1;
         const double keep = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
         const int i = c % nx_, j = c / nx_;
         // The faces this cell feeds carry its layer's momentum, now spread over more mass.

@@ -8,8 +8,8 @@
 // out across every face):
 //   df/dt + div(f u) = 0
 //   du/dt + (u . grad) u = -g (grad H + (K - 1) grad f) - mu g u / |u|
-// with H the surface, K the earth-pressure coefficient (active where the
-// flow spreads, passive where it converges; Savage-Hutter (2.23)) and
+// with H the surface, K the earth-pressure coefficient (1, hydrostatic, by
+// default; Savage-Hutter's (2.23) active and passive values selectable) and
 // Coulomb friction mu on the bed: the soil's stop angle, the mu_s of the
 // mu(I) law (Pouliquen 1999, Jop et al. 2006: the angle at which a thick
 // flow stops). Advection is Stelling and Duinmeijer's (2003) momentum-
@@ -48,11 +48,17 @@ struct MomentumFlowParameters {
   double bed_friction_deg = 0.0;
   // The steepest slope of the stable core (deg): material above it fails; 0: the soil's repose angle.
   double start_friction_deg = 0.0;
-  // Earth-pressure coefficient K; 0: Savage-Hutter's active and passive
-  // values from the internal friction (the repose angle) and the bed friction.
-  double earth_pressure = 0.0;
-  // Courant number of a sub-step: (|u| + |v| + sqrt(g K h)) dt / d.
+  // Earth-pressure coefficient K: 1, hydrostatic (Mangeney-Castelnau et al.
+  // 2005 for granular collapses); 0: Savage-Hutter's active and passive
+  // values from the internal friction (the repose angle) and the bed
+  // friction, whose switch between spreading and converging flow raises a
+  // dam-break above its own dam (docs/terrain_model.md), kept selectable.
+  double earth_pressure = 1.0;
+  // Courant number of a sub-step: (|u| + |v| + sqrt(g K h)) dt / d, at
+  // most 0.5 (the bound, docs/terrain_model.md); past it only when
+  // study_past_bound is set (a stability study: the tests show it breaking).
   double courant = 0.4;
+  bool study_past_bound = false;
   // A channel's side walls, gap_m apart along the grid's y (0: none): the
   // layer rubs on both with Coulomb friction tan(delta_w) under its
   // hydrostatic side pressure, a deceleration tan(delta_w) g f / gap (Jop,
@@ -99,9 +105,9 @@ class MomentumFlow {
   double earth_pressure_passive() const { return k_passive_; }
   // Bytes of state per cell: two face velocities, the flowing and raining
   // layers, the rain's speed, the core, the quanta across two faces in a
-  // sub-step and three flags; the moving list comes on top.
+  // sub-step and four flags; the moving list comes on top.
   static constexpr std::size_t kStateBytesPerCell =
-      4 * sizeof(double) + 4 * sizeof(std::int64_t) + 3 * sizeof(std::uint8_t);
+      4 * sizeof(double) + 4 * sizeof(std::int64_t) + 4 * sizeof(std::uint8_t);
 
  private:
   // Faces: x-face (i, j) lies between cells (i - 1, j) and (i, j), i in
@@ -134,6 +140,7 @@ class MomentumFlow {
   std::vector<int> order_;   // the examined cells in raster order
   std::vector<std::int64_t> rain_;  // per cell: quanta falling freely onto its flowing layer
   std::vector<double> rain_speed_;  // their speed (m/s)
+  std::vector<std::uint8_t> fell_;  // its rain has landed in this event
   std::vector<double> core_;  // per cell: the stable core's surface (m), examined cells only
   std::vector<double> new_x_, new_y_;              // the listed faces' new velocities
   std::vector<std::int64_t> x_sent_, y_sent_;       // quanta across each face this sub-step (signed along +x, +y)

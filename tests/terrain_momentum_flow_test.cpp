@@ -1,7 +1,8 @@
 // The fast-flow prototype (terrain/momentum_flow.h): Savage-Hutter's earth
-// pressure against Rankine's closed form, exact books and bit-for-bit
-// repeats of a collapse, the stability bound refused past its limit, and a
-// terrain at rest costing nothing.
+// pressure against Rankine's closed form, Ritter's dam-break, a dam-break
+// that never rises above its dam within the stability bound and does past
+// it, exact books and bit-for-bit repeats of a collapse, the bound refused
+// past its limit, and a terrain at rest costing nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,9 +32,7 @@ CollapseCase momentum_case(double aspect, double cell_m) {
   CollapseCase c;
   c.aspect = aspect;
   c.cell_m = cell_m;
-  c.momentum = true;
-  // dem_sand's internal friction (the DEM's shear box), as the report runs it
-  c.momentum_params.bed_friction_deg = c.momentum_params.start_friction_deg = 38.9;
+  c.momentum = true;  // at its defaults: the soil's stop and repose angles, K = 1, raining
   return c;
 }
 
@@ -87,9 +86,7 @@ TEST(MomentumFlow, EverySpeedStaysBoundedByTheFall) {
   for (int j = 0; j < spec.ny; ++j)
     for (int i = 0; i < spec.nx; ++i)
       if ((spec.origin_m + 0.1 * Eigen::Vector2d(i, j)).norm() < 1.0) g.set_material_m(i, j, 1.0);
-  MomentumFlowParameters p;
-  p.bed_friction_deg = p.start_friction_deg = 38.9;
-  MomentumFlow flow(g, p, 0.002);
+  MomentumFlow flow(g, MomentumFlowParameters{}, 0.002);
   flow.wake_all(g);
   const double free_fall = std::sqrt(2.0 * kGravity_m_s2 * 1.0);
   double fastest = 0.0;
@@ -101,6 +98,93 @@ TEST(MomentumFlow, EverySpeedStaysBoundedByTheFall) {
     }
   }
   EXPECT_LT(fastest, 2.0 * free_fall);
+}
+
+// A dam of height h0 on a strip, released on an almost frictionless bed with
+// the whole dam failing (the core's angle near 0) and no raining: Ritter's
+// (1892) solution holds the depth at the dam at 4/9 h0, sends the
+// rarefaction back at c0 = sqrt(g h0) and the front out at 2 c0, where the
+// depth vanishes: h / h0 = (2 - x / (c0 t))^2 / 9 puts 1 % of h0 at 1.7 c0 t.
+TEST(MomentumFlow, RittersDamBreakAtTwoCellSizes) {
+  for (double d : {0.05, 0.02}) {
+    GridSpec spec;
+    spec.nx = static_cast<int>(std::lround(8.0 / d));
+    spec.ny = 1;
+    spec.cell_size_m = d;
+    SoilFlowParameters soil;
+    soil.min_flow_layer_m = 0.001;
+    GranularGrid g(spec, soil, 0.002, 100000);
+    const double h0 = 0.5;
+    const int dam = spec.nx / 2;  // the dam between cells dam - 1 and dam
+    for (int i = 0; i < dam; ++i) g.set_material_m(i, 0, h0);
+    MomentumFlowParameters p;
+    p.raining = false;
+    p.bed_friction_deg = 0.5;
+    p.start_friction_deg = 0.51;
+    MomentumFlow flow(g, p, 0.002);
+    flow.wake_all(g);
+    for (int s = 0; s < 250; ++s) flow.step(g);
+    const double t = 0.5, c0 = std::sqrt(kGravity_m_s2 * h0);
+    EXPECT_NEAR(0.5 * (g.material_m(dam - 1, 0) + g.material_m(dam, 0)), 4.0 / 9.0 * h0, 0.03 * 4.0 / 9.0 * h0) << d;
+    int back = dam, front = dam;
+    for (int i = dam; i >= 0; --i)
+      if (g.material_m(i, 0) < 0.99 * h0) back = i;
+    for (int i = dam; i < spec.nx; ++i)
+      if (g.material_m(i, 0) > 0.01 * h0) front = i;
+    EXPECT_NEAR((dam - back - 0.5) * d, c0 * t, 0.1 * c0 * t) << d;
+    // First-order upwind smears the vanishing tip: the front lags.
+    EXPECT_NEAR((front + 0.5 - dam) * d, 1.7 * c0 * t, 0.2 * 1.7 * c0 * t) << d;
+    EXPECT_TRUE(g.ledger().balanced());
+  }
+}
+
+// A dam 1 m high and 1 m long against a wall, released on the soil's bed
+// friction: the highest surface after release over a run, above the dam.
+double dam_break_rise_m(MomentumFlowParameters p, double step_s) {
+  GridSpec spec;
+  spec.nx = 80;
+  spec.ny = 1;
+  spec.cell_size_m = 0.05;
+  SoilFlowParameters soil;
+  soil.repose_angle_deg = 34.6;
+  soil.stop_angle_deg = 31.6;
+  GranularGrid g(spec, soil, step_s, 100000);
+  for (int i = 0; i < 20; ++i) g.set_material_m(i, 0, 1.0);
+  p.max_substeps = 1000;
+  MomentumFlow flow(g, p, step_s);
+  flow.wake_all(g);
+  double rise = 0.0;
+  for (int s = 0; s < static_cast<int>(4.0 / step_s); ++s) {
+    flow.step(g);
+    for (int i = 0; i < spec.nx; ++i) rise = std::max(rise, g.material_m(i, 0) - 1.0);
+  }
+  EXPECT_TRUE(g.ledger().balanced());
+  return rise;
+}
+
+// Within the bound (Courant 0.5) a dam-break never rises above its dam, at
+// the sessions' step and at ten times it; past the bound (a study) it does.
+// Savage-Hutter's active/passive K switching raises it even within the bound,
+// which is why K = 1 is the default.
+TEST(MomentumFlow, ADamBreakStaysBelowItsDamWithinTheBoundAndRisesPastIt) {
+  MomentumFlowParameters p;
+  for (double step : {0.002, 0.02})
+    for (double courant : {0.25, 0.5}) {
+      p.courant = courant;
+      EXPECT_LT(dam_break_rise_m(p, step), 1e-6) << step << " s, Courant " << courant;  // a quantum or two
+    }
+  p.study_past_bound = true;
+  p.courant = 4.0;
+  EXPECT_GT(dam_break_rise_m(p, 0.02), 0.5);
+  MomentumFlowParameters sh;
+  sh.earth_pressure = 0.0;  // Savage-Hutter's K
+  sh.raining = false;
+  EXPECT_GT(dam_break_rise_m(sh, 0.002), 0.05);
+  p.courant = 9.0;
+  GridSpec spec;
+  spec.nx = spec.ny = 4;
+  GranularGrid g(spec, SoilFlowParameters{}, 0.002);
+  EXPECT_THROW(MomentumFlow(g, p, 0.002), std::invalid_argument);
 }
 
 TEST(MomentumFlow, ALowColumnKeepsItsTop) {
