@@ -214,6 +214,14 @@ std::unique_ptr<terrain::BodyAutomaton> World::make_bucket_automaton(const terra
   }
 }
 
+void World::enable_fast_flow(const terrain::MomentumFlowParameters& params) {
+  if (!grid_ || !exchange_) throw std::logic_error("World::enable_fast_flow: add the soil site first");
+  ground_flow_ = std::make_unique<terrain::MomentumFlow>(*grid_, params, kStepSeconds);
+  // As the automaton's lists: sized once so that a busy step does not allocate.
+  ground_flow_->reserve_cells(std::max<size_t>(16384, static_cast<size_t>(grid_->nx()) * grid_->ny() / 8));
+  exchange_->set_ground_flow(ground_flow_.get());
+}
+
 void World::build_material(std::unique_ptr<terrain::BodyAutomaton> bucket) {
   exchange_ = std::make_unique<terrain::MaterialExchange>(grid_.get(), kStepSeconds);
   exchange_->set_firm_ground_plane(firm_ground_normal_, firm_ground_offset_m_);
@@ -524,6 +532,7 @@ void World::step(const vehicle::LoaderControls& controls) {
   // maxSubSteps = 0: exactly one internal step of kStepSeconds, no interpolation.
   world_->stepSimulation(kStepSeconds, 0, kStepSeconds);
   loader_->post_step(kStepSeconds);
+  if (ground_flow_) ground_flow_->step(*grid_);  // fast flows with momentum
   if (grid_) grid_->step();  // avalanche sweep over the active cells
   if (exchange_) {
     if (bucket_.automaton) {

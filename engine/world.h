@@ -81,6 +81,14 @@ class World {
   terrain::GranularGrid* terrain() { return grid_.get(); }
   const terrain::GranularGrid* terrain() const { return grid_.get(); }
   terrain::SoilContactModel* soil_contact() { return soil_.get(); }
+  // Fast flows on the site (terrain/momentum_flow.h): what lands on the
+  // ground from a body (a dump, a spill over the lip, a bed's edge) joins a
+  // flowing layer with its momentum and runs out until friction stops it,
+  // beside the automaton's slow avalanches. After add_soil_site; throws
+  // std::invalid_argument where the site's tallest fall breaks the flow's
+  // stability bound.
+  void enable_fast_flow(const terrain::MomentumFlowParameters& params);
+  const terrain::MomentumFlow* fast_flow() const { return ground_flow_.get(); }
 
   // Material on moving bodies (thesis ch. 6): the bucket carries an
   // automaton (when its parameters describe its interior), trays hold
@@ -214,6 +222,7 @@ class World {
   BucketMaterial bucket_;
   std::vector<std::unique_ptr<terrain::BodyAutomaton>> trays_;
   std::unique_ptr<terrain::MaterialExchange> exchange_;
+  std::unique_ptr<terrain::MomentumFlow> ground_flow_;
   // Agents: specs, states, and their Bullet bodies.
   struct AgentBody {
     btCollisionObject* object;  // owned by statics_

@@ -17,16 +17,20 @@ constexpr double kEdgeThicknessOverR0 = 0.25 * 0.008 / 0.1;
 constexpr double kCentreZoneOverR0 = 1.5 * 0.008 / 0.1;
 
 // The domain reaches as far as the DEM deck's (dem/collapse/column.in).
-double domain_reach_m(const CollapseCase& c) { return c.r0_m * (1.0 + 1.35 * (1.0 + 2.5 * std::sqrt(c.aspect))); }
+double domain_reach_m(const CollapseCase& c) {
+  return c.r0_m * (1.0 + 1.35 * (1.0 + 2.5 * std::sqrt(c.aspect)) + 2.0 * c.drop_over_r0);
+}
 
 double distance_m(const GranularGrid& g, const CollapseCase& c, int i, int j) {
   const Eigen::Vector2d p = g.spec().origin_m + g.cell_size_m() * Eigen::Vector2d(i, j);
   return c.slot ? p.x() : p.norm();
 }
 
-GranularGrid column_grid(const CollapseCase& c, const SoilFlowParameters& soil) {
-  if (!(c.aspect > 0.0 && c.r0_m > 0.0 && c.cell_m > 0.0 && c.cell_m < c.r0_m))
-    throw std::invalid_argument("column collapse: aspect, r0_m and cell_m must be > 0, cell_m below r0_m");
+// The grid, with the column standing on it unless `empty`.
+GranularGrid column_grid(const CollapseCase& c, const SoilFlowParameters& soil, bool empty = false) {
+  if (!(c.aspect > 0.0 && c.r0_m > 0.0 && c.cell_m > 0.0 && c.cell_m < c.r0_m && c.drop_over_r0 >= 0.0))
+    throw std::invalid_argument("column collapse: aspect, r0_m and cell_m must be > 0, cell_m below r0_m, drop_over_r0 >= 0");
+  if (c.drop_over_r0 > 0.0 && c.slot) throw std::invalid_argument("column collapse: a dropped column is a tube");
   const double reach = domain_reach_m(c);
   GridSpec spec;
   spec.cell_size_m = c.cell_m;
@@ -40,6 +44,7 @@ GranularGrid column_grid(const CollapseCase& c, const SoilFlowParameters& soil) 
     spec.origin_m = Eigen::Vector2d::Constant(-half * c.cell_m);
   }
   GranularGrid g(spec, soil, c.step_dt_s, 100000);
+  if (empty) return g;
   const double h0 = c.aspect * c.r0_m;
   for (int j = 0; j < spec.ny; ++j)
     for (int i = 0; i < spec.nx; ++i)
@@ -86,10 +91,11 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
 CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters& soil) {
   CollapseRun run;
   run.c = c;
-  GranularGrid g = column_grid(c, soil);
+  const bool dropped = c.drop_over_r0 > 0.0;
+  GranularGrid g = column_grid(c, soil, dropped);
   const double h0 = c.aspect * c.r0_m;
   const double t_scale = std::sqrt(h0 / kGravity_m_s2);
-  const double max_time = c.max_time_s > 0.0 ? c.max_time_s : 40.0 * t_scale;
+  const double max_time = c.max_time_s > 0.0 ? c.max_time_s : 40.0 * t_scale + std::sqrt(2.0 * c.drop_over_r0 * c.r0_m / kGravity_m_s2);
   const double frame_dt = c.frame_dt_s > 0.0 ? c.frame_dt_s : 0.1 * t_scale;
   const int max_steps = static_cast<int>(std::ceil(max_time / c.step_dt_s));
   const int frame_every = std::max(1, static_cast<int>(std::lround(frame_dt / c.step_dt_s)));
@@ -103,20 +109,47 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
     flow = std::make_unique<MomentumFlow>(g, p, c.step_dt_s);
     flow->wake_all(g);
   }
-  run.books_exact = g.ledger().balanced();
-  run.frames.push_back(measure_collapse(g, c, 0.0));
+  // A dropped column: the same column as parcels, slabs of half a cell, at
+  // rest drop_over_r0 r0 above the floor; measured as released on the floor.
+  std::unique_ptr<MaterialExchange> exchange;
+  std::int64_t released = 0;
+  const CollapseFrame as_released = measure_collapse(dropped ? column_grid(c, soil) : g, c, 0.0);
+  if (dropped) {
+    exchange = std::make_unique<MaterialExchange>(&g, c.step_dt_s);
+    exchange->set_ground_flow(flow.get());
+    const GranularGrid standing = column_grid(c, soil);
+    const int slabs = std::max(1, static_cast<int>(std::ceil(h0 / (0.5 * c.cell_m))));
+    for (int j = 0; j < g.ny(); ++j)
+      for (int i = 0; i < g.nx(); ++i) {
+        const std::int64_t q = standing.material_quanta(i, j);
+        if (q == 0) continue;
+        const Eigen::Vector2d p = g.spec().origin_m + c.cell_m * Eigen::Vector2d(i, j);
+        for (int k = 0; k < slabs; ++k) {
+          const std::int64_t part = q * (k + 1) / slabs - q * k / slabs;
+          const double z = c.drop_over_r0 * c.r0_m + (k + 0.5) * h0 / slabs;
+          exchange->release(Eigen::Vector3d(p.x(), p.y(), z), Eigen::Vector3d::Zero(), part);
+          released += part;
+        }
+      }
+  }
+  auto books = [&] {
+    return g.ledger().balanced() && (!exchange || exchange->total_quanta() == released);
+  };
+  run.books_exact = books();
+  run.frames.push_back(as_released);
   run.t_stop_s = max_time;
   const auto t0 = std::chrono::steady_clock::now();
   int s = 0;
   while (s < max_steps) {
     if (flow) flow->step(g);
     g.step();
+    if (exchange) exchange->step();
     ++s;
     if (s % frame_every == 0) {
       run.frames.push_back(measure_collapse(g, c, s * c.step_dt_s));
-      run.books_exact = run.books_exact && g.ledger().balanced();
+      run.books_exact = run.books_exact && books();
     }
-    if (g.at_rest() && (!flow || flow->moving_cells() == 0)) {
+    if (g.at_rest() && (!flow || flow->moving_cells() == 0) && (!exchange || exchange->parcels().empty())) {
       run.at_rest = true;
       run.t_stop_s = s * c.step_dt_s;
       break;
@@ -126,7 +159,7 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   run.steps = s;
   run.flow_at_rest = !flow || flow->moving_cells() == 0;
   run.final_state = measure_collapse(g, c, s * c.step_dt_s);
-  run.books_exact = run.books_exact && g.ledger().balanced();
+  run.books_exact = run.books_exact && books();
   const CollapseFrame& first = run.frames.front();
   run.runout_over_r0 = (run.final_state.front_r99_m - first.front_r99_m) / c.r0_m;
   run.edge_runout_over_r0 = (run.final_state.front_edge_m - first.front_edge_m) / c.r0_m;

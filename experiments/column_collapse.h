@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "terrain/granular_grid.h"
+#include "terrain/material_exchange.h"
 #include "terrain/momentum_flow.h"
 
 namespace skidsim::terrain {
@@ -36,6 +37,11 @@ struct CollapseCase {
   // ground model; off: the ground model alone.
   bool momentum = false;
   MomentumFlowParameters momentum_params;
+  // A dropped column (a tube only; 0: standing on the floor): released
+  // drop_over_r0 r0 above the floor, it falls as parcels (one per cell and
+  // slab of a cell's height, terrain/material_exchange.h) and lands on the
+  // empty grid, with the momentum flow when `momentum`.
+  double drop_over_r0 = 0.0;
 };
 
 // The same measures as dem/tools/collapse.py, in the grid's units.

@@ -102,6 +102,11 @@ struct Reader {
       else if (model != "automaton")
         a.fail("attribute 'model' = \"" + model + "\": expected \"automaton\" or \"slippage\"");
     }
+    if (a.has("fast_flow")) {
+      const std::string fast = a.text("fast_flow", true);
+      if (fast != "on" && fast != "off") a.fail("attribute 'fast_flow' = \"" + fast + "\": expected \"on\" or \"off\"");
+      s.fast_flow = fast == "on";
+    }
     a.reject_unknown();
     on_site(a, s.region, "the soil region");
     if (!table.count(s.soil)) a.fail("attribute 'type' = \"" + s.soil + "\": not a soil of " + table_path);

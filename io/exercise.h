@@ -45,6 +45,9 @@ struct SoilSite {
   // How the site's loose soil slides: the automaton, or Li & Moshell's
   // slippage model (terrain/slippage_law.h; for cohesive soils).
   terrain::GroundModel model = terrain::GroundModel::kAutomaton;
+  // Fast flows with momentum (terrain/momentum_flow.h): loads dumped or
+  // spilled onto the site run out with the speed they land with.
+  bool fast_flow = false;
   std::vector<SoilPile> piles;
   std::vector<SoilTrench> trenches;
   std::vector<SoilBank> banks;

@@ -18,12 +18,14 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dir) {
     DemColumn c;
     c.slot = row[csv.column("slot", summary)] != 0.0;
     c.aspect = row[csv.column("aspect_ratio", summary)];
+    c.drop_over_r0 = row[csv.column("drop_m", summary)] / row[csv.column("r0_m", summary)];
     c.runout = row[csv.column("runout_r99_rel", summary)];
     c.edge_runout = row[csv.column("runout_edge_rel", summary)];
     c.height = row[csv.column("final_height_rel", summary)];
     c.t_stop_scaled = row[csv.column("t_stop_over_sqrt_H0_g", summary)];
     const double r0 = row[csv.column("r0_m", summary)], h0 = row[csv.column("H0_m", summary)];
-    const fs::path front = dir / ("front_" + std::string(c.slot ? "slot" : "tube") + "_a" + fmt("%g", c.aspect) + ".csv");
+    const std::string geometry = c.slot ? "slot" : c.drop_over_r0 > 0.0 ? "drop" : "tube";
+    const fs::path front = dir / ("front_" + geometry + "_a" + fmt("%g", c.aspect) + ".csv");
     const CsvNumbers f = read_csv_numbers(front);
     const std::size_t t = f.column("t_s", front), r = f.column("front_r99_m", front);
     for (const auto& fr : f.rows)
@@ -31,6 +33,11 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dir) {
     out.push_back(c);
   }
   return out;
+}
+
+std::string column_name(const DemColumn& c) {
+  if (c.drop_over_r0 > 0.0) return "dropped " + fmt("%g", c.drop_over_r0) + " r0, a = " + fmt("%g", c.aspect);
+  return std::string(c.slot ? "slot" : "tube") + ", a = " + fmt("%g", c.aspect);
 }
 
 terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining,
@@ -41,6 +48,7 @@ terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool 
   c.cell_m = cell_m;
   c.momentum = momentum;
   c.momentum_params.raining = raining;
+  c.drop_over_r0 = dem.drop_over_r0;
   c.slot_wall_friction_deg = soil.tool_friction_angle_deg;
   return c;
 }

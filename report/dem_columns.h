@@ -8,6 +8,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -17,9 +18,12 @@
 namespace skidsim::report::perf {
 
 // One LIGGGHTS column: a row of dem/collapse/results/summary.csv and its
-// front_*.csv.
+// front_*.csv. A dropped column's r99 counts the grains its impact scatters
+// one by one far out, which no height field holds: compare its edge.
 struct DemColumn {
   bool slot = false;
+  // A column let go this far (over r0) above the floor (0: standing on it).
+  double drop_over_r0 = 0.0;
   double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
   std::vector<std::pair<double, double>> front;  // t / sqrt(H0 / g), (r99 - r99(0)) / r0
 };
@@ -27,6 +31,7 @@ struct DemColumn {
 // Throws std::runtime_error naming the file and column when one is missing.
 std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dir);
 
+std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "dropped 4 r0, a = 1"
 // The DEM column's case on the grid at `cell_m`: the slot's steel walls at
 // the soil's tool friction angle (the steel sliding plate's), the fast-flow
 // prototype on when `momentum`, at its defaults (bed friction the stop

@@ -190,6 +190,10 @@ stage_wheel_post() {
 # wide) of aspect ratio COLLAPSE_SLOT_ASPECT.
 COLLAPSE_ASPECTS=(0.5 1 2 4)
 COLLAPSE_SLOT_ASPECT=2
+# A load let go from a height: a column of aspect ratio 1 dropped COLLAPSE_DROP_M (4 r0) onto
+# the floor, as a bucket's load (about 0.5 m across and high) is dumped from 2 m.
+COLLAPSE_DROP_ASPECT=1
+COLLAPSE_DROP_M=0.4
 stage_collapse() {
   local a c="$DEM/collapse"
   mkdir -p "$SCRATCH/collapse"
@@ -200,6 +204,9 @@ stage_collapse() {
   throttle
   run_deck "collapse_slot_a$COLLAPSE_SLOT_ASPECT" "$c" column.in -var a "$COLLAPSE_SLOT_ASPECT" -var slot 1 \
     -var out "$(rel "$SCRATCH/collapse" "$c")" &
+  throttle
+  run_deck "collapse_drop_a$COLLAPSE_DROP_ASPECT" "$c" column.in -var a "$COLLAPSE_DROP_ASPECT" \
+    -var drop "$COLLAPSE_DROP_M" -var out "$(rel "$SCRATCH/collapse" "$c")" &
 }
 
 # The collapses' fronts against time and final deposits.

@@ -295,6 +295,7 @@ void MaterialExchange::move_parcels() {
       g.import_quanta(g.index(ti, tj), p.quanta);
     } else if (target_body == -1) {
       ground_->import_quanta(ground_->index(ti, tj), p.quanta);
+      if (ground_flow_) ground_flow_->land(*ground_, ground_->index(ti, tj), p.quanta, p.velocity_m_s.x(), p.velocity_m_s.y());
     } else if (target_body == -3) {
       off_site_ += p.quanta;
     } else {
@@ -332,6 +333,7 @@ void MaterialExchange::land(const FallingParcel& p) {
   int gi = 0, gj = 0;
   if (ground_cell(p.position_m, &gi, &gj)) {
     ground_->import_quanta(ground_->index(gi, gj), p.quanta);
+    if (ground_flow_) ground_flow_->land(*ground_, ground_->index(gi, gj), p.quanta, p.velocity_m_s.x(), p.velocity_m_s.y());
   } else if (ground_) {
     off_site_ += p.quanta;
   } else {

@@ -24,6 +24,7 @@
 
 #include "terrain/body_automaton.h"
 #include "terrain/granular_grid.h"
+#include "terrain/momentum_flow.h"
 
 namespace skidsim::terrain {
 
@@ -73,6 +74,16 @@ class MaterialExchange {
   int body_count() const { return static_cast<int>(bodies_.size()); }
   BodyAutomaton& body(int k) { return *bodies_[static_cast<std::size_t>(k)].automaton; }
   void set_cutting_edge(int body, const CuttingEdge& edge);
+  // The ground's fast flow (terrain/momentum_flow.h; not owned, may be
+  // null): what lands on the ground joins its flowing layer with the
+  // parcel's horizontal velocity.
+  void set_ground_flow(MomentumFlow* flow) { ground_flow_ = flow; }
+  // Material let go in the air (a load released from a height; the drop
+  // experiment): a parcel like those that leave bodies, in the books from
+  // now on.
+  void release(const Eigen::Vector3d& at_m, const Eigen::Vector3d& velocity_m_s, std::int64_t quanta) {
+    spawn(at_m, velocity_m_s, quanta, -1);
+  }
   // Firm ground where there is no automaton: the plane normal . x = offset
   // (normal pointing up, normalised here). Default: z = 0.
   void set_firm_ground_plane(const Eigen::Vector3d& normal, double offset_m);
@@ -123,6 +134,7 @@ class MaterialExchange {
   bool ground_cell(const Eigen::Vector3d& at, int* i, int* j) const;
 
   GranularGrid* ground_ = nullptr;
+  MomentumFlow* ground_flow_ = nullptr;
   double dt_s_;
   double cell_size_m_ = 0.0;
   double quantum_mass_kg_ = 0.0;

@@ -101,6 +101,13 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   min_layer_m_ = soil.min_flow_layer_m;
 }
 
+void MomentumFlow::reserve_cells(std::size_t cells) {
+  cells = std::min(cells, flowing_.size());
+  candidates_.reserve(cells), moving_.reserve(cells), order_.reserve(cells);
+  x_faces_.reserve(2 * cells), y_faces_.reserve(2 * cells), new_x_.reserve(2 * cells), new_y_.reserve(2 * cells);
+  new_flowing_.reserve(8 * cells);
+}
+
 void MomentumFlow::mark(int cell) {
   if (listed_[cell]) return;
   listed_[cell] = 1;
@@ -117,6 +124,28 @@ void MomentumFlow::mark_face(int face, bool x) {
 void MomentumFlow::wake_all(const GranularGrid& grid) {
   for (int c = 0; c < grid.nx() * grid.ny(); ++c)
     if (grid.loose_quanta(c) > 0) mark(c);
+}
+
+void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s) {
+  if (quanta <= 0) return;
+  const std::int64_t before = std::min(flowing_[cell], grid.loose_quanta(cell) - rain_[cell]);
+  const std::int64_t after = std::min(std::max<std::int64_t>(before, 0) + quanta, grid.loose_quanta(cell) - rain_[cell]);
+  if (after <= 0) return;
+  // Each face the cell feeds (or that stands still) takes the mass-weighted
+  // mean of its velocity and the landing's component across it; a face
+  // feeding the cell belongs to its neighbour's layer and is left alone.
+  const double w = static_cast<double>(after - std::max<std::int64_t>(before, 0)) / static_cast<double>(after);
+  const int i = cell % nx_, j = cell / nx_;
+  double* face[4] = {&ux_face_[x_face(i + 1, j)], &ux_face_[x_face(i, j)], &uy_face_[y_face(i, j + 1)], &uy_face_[y_face(i, j)]};
+  const double along[4] = {vx_m_s, vx_m_s, vy_m_s, vy_m_s};
+  for (int k = 0; k < 4; ++k) {
+    const bool outward = k % 2 == 0 ? *face[k] >= 0.0 : *face[k] <= 0.0;
+    const bool landing_out = k % 2 == 0 ? along[k] > 0.0 : along[k] < 0.0;
+    if (outward) *face[k] = (1.0 - w) * *face[k] + (landing_out ? w * along[k] : 0.0);
+  }
+  flowing_[cell] = after;
+  fell_[cell] = 1;
+  mark(cell);
 }
 
 double MomentumFlow::velocity_x_m_s(int cell) const {
@@ -165,6 +194,7 @@ void MomentumFlow::step(GranularGrid& grid) {
   for (int s = 0; s < n && !(moving_.empty() && candidates_.empty()); ++s) {
     substep(grid, step_dt_s_ / n);
     ++last_substeps_;
+    ++substeps_run_;
   }
 }
 
@@ -212,6 +242,19 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   auto relax = [&](int c) {
     const int i = c % nx_, j = c / nx_;
     double core = core_[c];
+    if (i > 0 && j > 0 && i + 1 < nx_ && j + 1 < ny_) {
+      // Inside the grid: the neighbours by offset.
+      const int offsets[8] = {-1, 1, -nx_, nx_, -nx_ - 1, -nx_ + 1, nx_ - 1, nx_ + 1};
+      for (int k = 0; k < 8; ++k) {
+        const int nb = c + offsets[k];
+        if (grid.covered(nb)) continue;
+        core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + (k < 4 ? rise : rise_diag));
+      }
+      core = std::max(core, static_cast<double>(grid.base_at(c)));
+      const bool changed = core < core_[c];
+      core_[c] = core;
+      return changed;
+    }
     for (int dj = -1; dj <= 1; ++dj)
       for (int di = -1; di <= 1; ++di) {
         if (di == 0 && dj == 0) continue;
@@ -233,8 +276,17 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     core_[c] = core;
     return changed;
   };
+  // Passes until nothing changes; the first forward one finds whether any
+  // cell stands above its neighbours' cone at all (mostly not, once a flow
+  // runs out on gentle slopes), and then the rest are skipped.
   for (int pass = 0; pass < 64; ++pass) {
     bool changed = false;
+    if (pass == 0) {
+      for (int c : order_) changed = relax(c) || changed;
+      if (!changed) break;
+      for (auto it = order_.rbegin(); it != order_.rend(); ++it) relax(*it);
+      continue;
+    }
     for (int c : order_) changed = relax(c) || changed;
     for (auto it = order_.rbegin(); it != order_.rend(); ++it) changed = relax(*it) || changed;
     if (!changed) break;

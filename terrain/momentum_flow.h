@@ -84,11 +84,19 @@ class MomentumFlow {
   // sqrt(g K H)) would need more than max_substeps sub-steps per step.
   MomentumFlow(const GranularGrid& grid, const MomentumFlowParameters& params, double step_dt_s);
 
+  // Sizes the per-step lists for `cells` examined cells, so that a busy
+  // step does not allocate (they otherwise grow to the largest set seen).
+  void reserve_cells(std::size_t cells);
   // Examines every cell that holds material once (after the terrain was
   // set up or changed from outside).
   void wake_all(const GranularGrid& grid);
   // One step of step_dt_s: sub-steps as the fastest moving cell asks.
   void step(GranularGrid& grid);
+  // `quanta` just landed in `cell` (already in the grid) from a fall, with
+  // the horizontal velocity it had (m/s): they join the flowing layer with
+  // that momentum and lose the vertical one (an inelastic impact, as the
+  // rain does), and the cell is examined at the next step.
+  void land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s);
 
   double speed_m_s(int cell) const;
   // The velocity at a cell's centre: the mean of its two faces along each axis.
@@ -99,6 +107,7 @@ class MomentumFlow {
   std::size_t moving_cells() const { return moving_.size(); }
   const std::vector<int>& moving() const { return moving_; }
   int last_substeps() const { return last_substeps_; }
+  long substeps_run() const { return substeps_run_; }  // since construction
   double bed_friction_tan() const { return mu_; }
   double start_friction_tan() const { return mu_start_; }
   double earth_pressure_active() const { return k_active_; }
@@ -130,6 +139,7 @@ class MomentumFlow {
   double step_dt_s_ = 0.0, d_ = 0.0;
   double mu_ = 0.0, mu_start_ = 0.0, tan_stop_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
+  long substeps_run_ = 0;
   bool raining_ = true;
   std::vector<double> ux_face_, uy_face_;   // m/s on the faces
   std::vector<std::int64_t> flowing_;       // per cell: quanta of its flowing layer (<= its material)

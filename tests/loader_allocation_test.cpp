@@ -92,7 +92,7 @@ TEST(LoaderAllocation, SandStepAllocatesNothingOnceWarm) {
 
 // The same with the arm cycling down into the sand: the bucket's edge
 // slices into it, its automaton sweeps, spills fall and land (thesis ch. 6).
-TEST(LoaderAllocation, DiggingStepAllocatesNothingOnceWarm) {
+void digging_allocates_nothing_once_warm(bool fast_flow) {
   const io::SoilRecord sand = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
   // A metre of sand: the bucket pressed down never reaches the hard base
   // (a new Bullet pair with the base allocates each time it is made).
@@ -101,6 +101,7 @@ TEST(LoaderAllocation, DiggingStepAllocatesNothingOnceWarm) {
   pose.translation() = Eigen::Vector3d(0.0, -3.0, 1.0 + shipped_loader().tyre.radius_m);
   engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.03, 0.03);
   w.add_soil_site(std::move(grid), sand.terramechanics);
+  if (fast_flow) w.enable_fast_flow(terrain::MomentumFlowParameters{});
   // Every 6 s: 3 s with the arm down and the bucket tipped into the sand
   // while driving the circle, then 3 s raising it, curling and dumping.
   const auto digging = [](long s) {
@@ -115,14 +116,23 @@ TEST(LoaderAllocation, DiggingStepAllocatesNothingOnceWarm) {
   const long before = g_allocations.load();
   for (int i = 0; i < 3000; ++i) w.step(digging(step++));
   const long n = g_allocations.load() - before;
-  RecordProperty("allocations", std::to_string(n));
+  ::testing::Test::RecordProperty("allocations", std::to_string(n));
   EXPECT_EQ(n, 0);
   EXPECT_GT(w.material()->stats().quanta_sliced, 0);
   EXPECT_GT(w.material()->stats().parcels_landed, 0);
+  if (fast_flow) {
+    EXPECT_GT(w.fast_flow()->substeps_run(), 0);  // the spills landed and flowed
+  }
   std::printf("[ measured ] sliced %.0f kg, parcels %ld landed, in the bucket %.0f kg\n",
               w.material()->stats().quanta_sliced * w.material()->quantum_mass_kg(),
               static_cast<long>(w.material()->stats().parcels_landed), w.bucket_material()->material_mass_kg());
 }
+
+TEST(LoaderAllocation, DiggingStepAllocatesNothingOnceWarm) { digging_allocates_nothing_once_warm(false); }
+
+// With fast flows on the site (terrain/momentum_flow.h): the spills that land
+// flow with their momentum, and the step still allocates nothing.
+TEST(LoaderAllocation, DiggingStepWithFastFlowsAllocatesNothingOnceWarm) { digging_allocates_nothing_once_warm(true); }
 
 }  // namespace
 }  // namespace skidsim::testing

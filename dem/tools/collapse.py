@@ -10,8 +10,9 @@ release) and its collapse_<geom>_a<a>.*.dump frames it writes
                            kinetic_energy_J (one row per dump)
   deposit_<geom>_a<a>.csv  r_m, thickness_m, top_m (the final frame)
 
-and one row per run in summary.csv (slot: 1 for the slot, 0 for the tube; numbers
-only, as the performance report reads it). The distance r is from the column's axis
+and one row per run in summary.csv (slot: 1 for the slot, 0 for the tube and the
+dropped column; drop_m: how far the column fell before it landed, 0 for those
+standing on the floor; numbers only, as the performance report reads it). The distance r is from the column's axis
 (tube) or from the back wall (slot). Definitions, chosen so a continuum model's
 cells can be measured the same way:
 
@@ -120,6 +121,7 @@ def post_run(scratch, results, meta_path):
     r0 = float(meta["r0_m"])
     h0 = float(meta["H0_m"])
     width = float(meta["slot_width_m"])
+    drop = float(meta.get("drop_m", 0.0))
     mass = float(meta["mass_kg"])
     column_volume = r0 * width * h0 if slot else math.pi * r0 ** 2 * h0
     rho_bulk = mass / column_volume
@@ -152,13 +154,15 @@ def post_run(scratch, results, meta_path):
     t_stop = next((series[i][0] * dt_step for i in range(i_peak, len(series)) if series[i][4] < 1e-3 * peak),
                   float("nan"))
     first, final = series[0], series[-1]
+    # a dropped column's top at release stands drop above a standing one's
+    top_at_release = first[3] - drop
     return {
-        "slot": 1 if slot else 0, "aspect_ratio": float(aspect), "r0_m": r0, "H0_m": h0,
+        "slot": 1 if slot else 0, "drop_m": drop, "aspect_ratio": float(aspect), "r0_m": r0, "H0_m": h0,
         "slot_width_m": width if slot else 0.0,
         "grains": int(float(meta["grains"])), "mass_kg": mass, "bulk_density_kg_m3": rho_bulk,
         "runout_r99_m": final[1], "runout_edge_m": final[2], "final_height_m": final[3],
         "runout_r99_rel": (final[1] - first[1]) / r0, "runout_edge_rel": (final[2] - first[2]) / r0,
-        "final_height_rel": final[3] / first[3] * h0 / r0, "t_stop_s": t_stop,
+        "final_height_rel": final[3] / top_at_release * h0 / r0, "t_stop_s": t_stop,
         "t_stop_over_sqrt_H0_g": t_stop / math.sqrt(h0 / G_M_S2),
         "end_kinetic_over_peak": final[4] / peak,
     }
@@ -176,7 +180,7 @@ def main():
     keys = list(rows[0].keys())
     with open(os.path.join(results, "summary.csv"), "w") as f:
         f.write(",".join(keys) + "\n")
-        for r in sorted(rows, key=lambda r: (r["slot"], r["aspect_ratio"])):
+        for r in sorted(rows, key=lambda r: (r["slot"], r["drop_m"], r["aspect_ratio"])):
             f.write(",".join(("%.6g" % v) if isinstance(v, float) else str(v) for v in (r[k] for k in keys)) + "\n")
 
 
