@@ -73,6 +73,34 @@ TEST(SkidsimRun, ScriptedPileToZoneIsDoneScoredAndLogged) {
 // Replaying a session's log (the controls it applied, tick by tick)
 // reproduces its final state. (This found that lcm-gen's decoding needs
 // -fno-strict-aliasing: the replay had read zeros.)
+// The same exercise with fast flows on its site (<soil fast_flow="on">,
+// terrain/momentum_flow.h): the dumped loads land and run out with their
+// momentum; the task is still done and passed, and the session differs from
+// the one without (its final state).
+TEST(SkidsimRun, PileToZoneWithFastFlowsIsDoneAndDiffers) {
+  const fs::path dir = fs::temp_directory_path() / "skidsim_run_fast_flow";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ifstream in(kScenario);
+  std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string soil = "type=\"dry_sand\">";
+  ASSERT_NE(xml.find(soil), std::string::npos);
+  xml.replace(xml.find(soil), soil.size(), "type=\"dry_sand\" fast_flow=\"on\">");
+  const fs::path scenario = dir / "pile_to_zone_fast.xml";
+  std::ofstream(scenario) << xml;
+  const auto fast = run_skidsim("run " + scenario.string() + " --script " + kScript + " --out " + (dir / "fast").string());
+  ASSERT_EQ(fast.exit_code, 0) << fast.output;
+  const auto plain = run_skidsim("run " + kScenario + " --script " + kScript + " --out " + (dir / "plain").string());
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  const nlohmann::json a = nlohmann::json::parse(std::ifstream(dir / "fast" / "report.json"));
+  const nlohmann::json b = nlohmann::json::parse(std::ifstream(dir / "plain" / "report.json"));
+  EXPECT_TRUE(a["result"]["passed"].get<bool>()) << a["result"].dump();
+  EXPECT_GE(a["metrics"]["material_moved_kg"].get<double>(), 800.0);
+  EXPECT_TRUE(a["machine_finite"].get<bool>());
+  EXPECT_NE(a["final_state_hash"], b["final_state_hash"]);
+  fs::remove_all(dir);
+}
+
 TEST(SkidsimRun, ReplayingASessionsLogReproducesItsFinalState) {
   const fs::path rec = fs::temp_directory_path() / "skidsim_run_recorded";
   const fs::path rep = fs::temp_directory_path() / "skidsim_run_replayed";
