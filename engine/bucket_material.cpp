@@ -15,9 +15,21 @@ terrain::ContainerShape bucket_container(const vehicle::BucketInterior& in) {
 }
 
 void pose_bucket_material(BucketMaterial& b, const Eigen::Isometry3d& link_pose, const Eigen::Vector3d& com_m,
-                          const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega) {
+                          const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega, double step_s) {
   const Eigen::Isometry3d pose = link_pose * b.link_from_container;
-  b.automaton->set_pose(pose, v_com + omega.cross(pose.translation() - com_m), omega);
+  const Eigen::Vector3d v_origin = v_com + omega.cross(pose.translation() - com_m);
+  if (b.apparent_gravity) {
+    // The origin's acceleration (its velocity's change over the step, the
+    // turn's centripetal part included), low-passed.
+    if (b.origin_velocity_known) {
+      const Eigen::Vector3d raw = (v_origin - b.origin_velocity_m_s) / step_s;
+      b.frame_acceleration_m_s2 += (raw - b.frame_acceleration_m_s2) * (step_s / (kFrameAccelerationFilterS + step_s));
+    }
+    b.origin_velocity_m_s = v_origin;
+    b.origin_velocity_known = true;
+    b.automaton->set_frame_acceleration(b.frame_acceleration_m_s2);
+  }
+  b.automaton->set_pose(pose, v_origin, omega);
 }
 
 void update_bucket_load(BucketMaterial& b, double gravity_m_s2) {

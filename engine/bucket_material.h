@@ -36,12 +36,26 @@ struct BucketMaterial {
   bool spread_stale = true;          // the material moved since
   std::vector<double> loads_N;
   terrain::LoadSpreadingScratch scratch;
+  // The apparent gravity of the bucket's accelerating frame (fast flows):
+  // the container origin's velocity last step and its acceleration, low-pass
+  // filtered (kFrameAccelerationFilterS).
+  bool apparent_gravity = false;
+  bool origin_velocity_known = false;
+  Eigen::Vector3d origin_velocity_m_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d frame_acceleration_m_s2 = Eigen::Vector3d::Zero();
 };
+
+// The load feels its frame's acceleration through a first-order low-pass of
+// this time constant: about the time a layer of the load takes to start
+// sliding, sqrt(h / g) for h ~ 0.1 m, long against the 2 ms step's contact
+// chatter of tyres and arm, which unfiltered would rock the load and, through
+// its load point, the machine.
+constexpr double kFrameAccelerationFilterS = 0.1;
 
 // Poses the automaton from the bucket link's pose and velocity (the link's
 // centre of mass `com_m` moving at `v_com`, turning at `omega`).
 void pose_bucket_material(BucketMaterial& b, const Eigen::Isometry3d& link_pose, const Eigen::Vector3d& com_m,
-                          const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega);
+                          const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega, double step_s);
 
 // Refreshes the load resultant when the material changed (6.5: the base
 // loads sum to the weight). The weight is always the material's own; the

@@ -220,6 +220,9 @@ void World::enable_fast_flow(const terrain::MomentumFlowParameters& params) {
   // As the automaton's lists: sized once so that a busy step does not allocate.
   ground_flow_->reserve_cells(std::max<size_t>(16384, static_cast<size_t>(grid_->nx()) * grid_->ny() / 8));
   exchange_->set_ground_flow(ground_flow_.get());
+  // The bucket's load feels its frame's acceleration (its apparent gravity):
+  // braking hard with a heaped bucket throws the heap over the lip.
+  bucket_.apparent_gravity = true;
 }
 
 void World::build_material(std::unique_ptr<terrain::BodyAutomaton> bucket) {
@@ -309,7 +312,7 @@ void World::material_on_bucket() {
   // A machine gone non-finite is an event (watch_stability), not a throw:
   // the load keeps its last pose.
   if (!pose.matrix().allFinite() || !v.allFinite() || !w.allFinite()) return;
-  pose_bucket_material(bucket_, pose, loader_->link_centre_of_mass(bucket_.link), v, w);
+  pose_bucket_material(bucket_, pose, loader_->link_centre_of_mass(bucket_.link), v, w, kStepSeconds);
 }
 
 void World::slicing_edge_shares(const Eigen::Isometry3d& pose, const Eigen::Vector2d& forward,

@@ -82,7 +82,7 @@ struct Operator {
   std::vector<std::string> timed_out;  // phases that ended on their time limit, not their goal
 };
 
-double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->grid().world_up().x()); }
+double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->geometric_up().x()); }
 double heading(const engine::World& w) {
   const Eigen::Matrix3d r = w.loader().link_pose(0).linear();
   return std::atan2(r(1, 0), r(0, 0));

@@ -1,4 +1,5 @@
 #include "terrain/body_automaton.h"
+#include "common/physical_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -83,7 +84,27 @@ void BodyAutomaton::set_pose(const Eigen::Isometry3d& world_from_container, cons
   inverse_pose_ = pose_.inverse(Eigen::Isometry);
   origin_velocity_ = origin_velocity_m_s;
   angular_velocity_ = angular_velocity_rad_s;
-  grid_->set_world_up(pose_.linear().transpose() * Eigen::Vector3d::UnitZ());
+  apply_up();
+}
+
+void BodyAutomaton::set_frame_acceleration(const Eigen::Vector3d& a_world_m_s2) {
+  if (!a_world_m_s2.allFinite()) throw std::invalid_argument("set_frame_acceleration: the acceleration must be finite");
+  frame_acceleration_ = a_world_m_s2;
+  apply_up();
+}
+
+void BodyAutomaton::apply_up() {
+  geometric_up_ = pose_.linear().transpose() * Eigen::Vector3d::UnitZ();
+  if (frame_acceleration_.isZero(0.0)) {
+    grid_->set_world_up(geometric_up_);
+    return;
+  }
+  // Apparent gravity g - a (Newton in the accelerating frame): up along
+  // g z + a. A frame falling faster than a tenth of g keeps a tenth of g's
+  // up (the material is then airborne more than it slides).
+  Eigen::Vector3d up = kGravity_m_s2 * Eigen::Vector3d::UnitZ() + frame_acceleration_;
+  up.z() = std::max(up.z(), 0.1 * kGravity_m_s2);
+  grid_->set_world_up(pose_.linear().transpose() * up);
 }
 
 Eigen::Vector3d BodyAutomaton::world_point(double i, double j, double height_m) const {
@@ -96,7 +117,7 @@ Eigen::Vector3d BodyAutomaton::velocity_at(const Eigen::Vector3d& world_point_m)
 }
 
 bool BodyAutomaton::cell_under(const Eigen::Vector3d& world_point_m, int* i, int* j) const {
-  const Eigen::Vector3d up = grid_->world_up();
+  const Eigen::Vector3d& up = geometric_up_;
   if (up.z() < 0.087) return false;  // the floor faces sideways or down
   const Eigen::Vector3d p = inverse_pose_ * world_point_m;
   const Eigen::Vector3d on_floor = p - (p.z() / up.z()) * up;

@@ -56,6 +56,16 @@ class BodyAutomaton {
   // sweep sees the new tilt.
   void set_pose(const Eigen::Isometry3d& world_from_container, const Eigen::Vector3d& origin_velocity_m_s,
                 const Eigen::Vector3d& angular_velocity_rad_s);
+  // The body's frame accelerates at `a` (world, m/s^2; the acceleration of
+  // the frame's origin, the rotation's centripetal part included): the
+  // material feels the apparent gravity g - a of its accelerating frame, so
+  // the grid's up tilts towards g z + a. Zero (the default): gravity alone.
+  // Kept for every later set_pose.
+  void set_frame_acceleration(const Eigen::Vector3d& a_world_m_s2);
+  const Eigen::Vector3d& frame_acceleration() const { return frame_acceleration_; }
+  // The world's up in the container frame (the floor's tilt), whatever the
+  // apparent gravity: what falls, falls along it.
+  const Eigen::Vector3d& geometric_up() const { return geometric_up_; }
   const Eigen::Isometry3d& pose() const { return pose_; }
   const Eigen::Isometry3d& inverse_pose() const { return inverse_pose_; }
   // (6.1): p = R + A p', with p' = (x of cell i, y of cell j, height above
@@ -78,6 +88,9 @@ class BodyAutomaton {
   Eigen::Isometry3d inverse_pose_ = Eigen::Isometry3d::Identity();  // world to container
   Eigen::Vector3d origin_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d frame_acceleration_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d geometric_up_ = Eigen::Vector3d::UnitZ();
+  void apply_up();
 };
 
 }  // namespace skidsim::terrain

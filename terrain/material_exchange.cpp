@@ -88,7 +88,7 @@ void MaterialExchange::add_sliced(int k, int ground_cell, std::int64_t quanta) {
 void MaterialExchange::step() {
   ++steps_;
   for (int k = 0; k < body_count(); ++k) {
-    if (bodies_[static_cast<std::size_t>(k)].automaton->grid().world_up().z() < kShedBelowUpZ) shed_all(k);
+    if (bodies_[static_cast<std::size_t>(k)].automaton->geometric_up().z() < kShedBelowUpZ) shed_all(k);
     if (steps_ % kEmitEverySteps == 0) emit_edges(k);
     if (ground_) flow_over_edges(k);
     if (bodies_[static_cast<std::size_t>(k)].cutting) feed_frontier(k);
@@ -184,7 +184,7 @@ void MaterialExchange::flow_over_edges(int k) {
     if (ground_surface <= at.z()) continue;  // still below the upper base
     // The ground cell is the border cell's neighbour now (6.3.2): nothing
     // runs out over the edge into soil standing higher.
-    const double up_z = g.world_up().z();
+    const double up_z = a.geometric_up().z();
     if (up_z > 0.087) g.set_edge_neighbour_height(slot, g.base_m(i, j) + (ground_surface - at.z()) / up_z);
     if (!takes_more) continue;
     const double upper_surface = a.surface_world_z(i, j);

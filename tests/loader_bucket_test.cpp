@@ -46,7 +46,7 @@ std::unique_ptr<engine::World> loader_before_strip(double cells_per_m, double ba
 }
 
 // Nose-up pitch of the bucket's floor (rad).
-double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->grid().world_up().x()); }
+double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->geometric_up().x()); }
 
 // The operator keeps the bucket's floor at `pitch_rad` with the tilt lever
 // (this machine has no self-levelling: raising the arm rolls the bucket back).
