@@ -94,7 +94,10 @@ void BodyAutomaton::set_frame_acceleration(const Eigen::Vector3d& a_world_m_s2) 
 }
 
 void BodyAutomaton::apply_up() {
-  geometric_up_ = pose_.linear().transpose() * Eigen::Vector3d::UnitZ();
+  // Normalised as GranularGrid::set_world_up normalises its up, so that
+  // without an apparent gravity the two are the same numbers.
+  const Eigen::Vector3d up_geometric = pose_.linear().transpose() * Eigen::Vector3d::UnitZ();
+  geometric_up_ = up_geometric / up_geometric.norm();
   if (frame_acceleration_.isZero(0.0)) {
     grid_->set_world_up(geometric_up_);
     return;
