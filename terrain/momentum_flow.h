@@ -31,9 +31,11 @@
 // transfer_quanta), so the ledger stays exact; momentum goes with the
 // material that carries it.
 //
-// Prototype scope: the collapse experiment (experiments/column_collapse.h)
-// runs it beside the automaton; sessions do not use it yet. Cells start
-// moving when woken (wake_all) or beside a moving cell.
+// Where it runs: beside the automaton (which keeps the slow avalanches and
+// rest), in sessions whose site turns it on (engine::World::enable_fast_flow:
+// what lands from a body joins the layer through land()) and in the collapse
+// experiment (experiments/column_collapse.h). Cells start moving when woken
+// (wake_all, land) or beside a moving cell.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // skidsim's collapsing columns against the stored LIGGGHTS columns
-// (dem/collapse/results; scripts/dem_reference.sh): the fast-flow prototype
+// (dem/collapse/results; scripts/dem_reference.sh): the fast flow
 // (terrain/momentum_flow.h) in dem_sand, whose repose and stop angles come
 // from the DEM's pile and never from these runs, at the sessions' 10 and
 // 5 cm cells (10 and 20 per radius), in run-out and final height over r0 and
@@ -97,8 +97,8 @@ TEST(DemCollapse, RainingBendsTheRunOutsGrowthLikeTheDem) {
 }
 
 // Today's automaton alone stops the run-out a third to a half short and
-// stands tall: the prototype is closer on every column.
-TEST(DemCollapse, ThePrototypeIsCloserThanTheAutomatonOnEveryColumn) {
+// stands tall: the fast flow is closer on every column.
+TEST(DemCollapse, TheFastFlowIsCloserThanTheAutomatonOnEveryColumn) {
   const Reference& s = reference();
   for (const DemColumn& d : s.dem) {
     if (d.drop_over_r0 > 0.0) continue;  // DroppedColumn

@@ -1,4 +1,4 @@
-// The fast-flow prototype (terrain/momentum_flow.h): Savage-Hutter's earth
+// The fast flow (terrain/momentum_flow.h): Savage-Hutter's earth
 // pressure against Rankine's closed form, Ritter's dam-break, a dam-break
 // that never rises above its dam within the stability bound and does past
 // it, exact books and bit-for-bit repeats of a collapse, the bound refused
