@@ -113,11 +113,13 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   // rest drop_over_r0 r0 above the floor; measured as released on the floor.
   std::unique_ptr<MaterialExchange> exchange;
   std::int64_t released = 0;
-  const CollapseFrame as_released = measure_collapse(dropped ? column_grid(c, soil) : g, c, 0.0);
+  CollapseFrame as_released;
+  if (!dropped) as_released = measure_collapse(g, c, 0.0);
   if (dropped) {
     exchange = std::make_unique<MaterialExchange>(&g, c.step_dt_s);
     exchange->set_ground_flow(flow.get());
     const GranularGrid standing = column_grid(c, soil);
+    as_released = measure_collapse(standing, c, 0.0);
     const int slabs = std::max(1, static_cast<int>(std::ceil(h0 / (0.5 * c.cell_m))));
     for (int j = 0; j < g.ny(); ++j)
       for (int i = 0; i < g.nx(); ++i) {

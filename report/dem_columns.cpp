@@ -1,5 +1,6 @@
 #include "report/dem_columns.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -51,6 +52,16 @@ terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool 
   c.drop_over_r0 = dem.drop_over_r0;
   c.slot_wall_friction_deg = soil.tool_friction_angle_deg;
   return c;
+}
+
+double compared_runout(const DemColumn& dem) { return dem.drop_over_r0 > 0.0 ? dem.edge_runout : dem.runout; }
+double compared_runout(const DemColumn& dem, const terrain::CollapseRun& run) {
+  return dem.drop_over_r0 > 0.0 ? run.edge_runout_over_r0 : run.runout_over_r0;
+}
+
+double column_error(const DemColumn& dem, const terrain::CollapseRun& run) {
+  return std::max(std::abs(compared_runout(dem, run) / compared_runout(dem) - 1.0),
+                  std::abs(run.final_height_over_r0 / dem.height - 1.0));
 }
 
 double front_arrival(const std::vector<std::pair<double, double>>& front, double fraction) {

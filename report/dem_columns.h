@@ -39,6 +39,13 @@ std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "
 terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining,
                                       const terrain::SoilMechanics& soil);
 
+// The run-out compared: r99's, or for a dropped column its edge's (its
+// impact scatters single grains far out, DemColumn); and the worst of the
+// run-out's and the height's relative errors against the DEM.
+double compared_runout(const DemColumn& dem);
+double compared_runout(const DemColumn& dem, const terrain::CollapseRun& run);
+double column_error(const DemColumn& dem, const terrain::CollapseRun& run);
+
 // When the front first reaches `fraction` of its final advance, over
 // sqrt(H0 / g); points as DemColumn::front.
 double front_arrival(const std::vector<std::pair<double, double>>& front, double fraction);

@@ -29,18 +29,6 @@ using terrain::GroundModel;
 
 bool tube(const DemColumn& c) { return !c.slot && c.drop_over_r0 == 0.0; }
 
-// The run-out compared: r99's, or for a dropped column its edge's (its
-// impact scatters single grains far out, DemColumn).
-double runout(const DemColumn& dem) { return dem.drop_over_r0 > 0.0 ? dem.edge_runout : dem.runout; }
-double runout(const DemColumn& dem, const CollapseRun& run) {
-  return dem.drop_over_r0 > 0.0 ? run.edge_runout_over_r0 : run.runout_over_r0;
-}
-
-// The worst of the run-out's and the height's relative errors.
-double column_error(const DemColumn& dem, const CollapseRun& run) {
-  return std::max(std::abs(runout(dem, run) / runout(dem) - 1.0), std::abs(run.final_height_over_r0 / dem.height - 1.0));
-}
-
 }  // namespace
 
 ReportSection collapse_dem_section(const ReportContext& ctx) {
@@ -100,7 +88,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
             if (p.first <= 12.0) f.points.push_back(p);
           fronts.push_back(f);
         }
-        cells_rows[k] += " | " + fmt("%.2f", runout(d, run)) + " / " + fmt("%.2f", run.final_height_over_r0) + " / " +
+        cells_rows[k] += " | " + fmt("%.2f", compared_runout(d, run)) + " / " + fmt("%.2f", run.final_height_over_r0) + " / " +
                          fmt("%.1f", front_arrival(front, 0.9)) + (run.at_rest ? "" : " (moving)");
       }
       runout_sk.push_back(runout_curve), height_sk.push_back(height);
@@ -116,7 +104,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       rule += "---|";
     }
   for (std::size_t k = 0; k < dem.size(); ++k)
-    rows += "| " + column_name(dem[k]) + " | " + fmt("%.2f", runout(dem[k])) + " / " + fmt("%.2f", dem[k].height) + " / " +
+    rows += "| " + column_name(dem[k]) + " | " + fmt("%.2f", compared_runout(dem[k])) + " / " + fmt("%.2f", dem[k].height) + " / " +
             fmt("%.1f", front_arrival(dem[k].front, 0.9)) + cells_rows[k] + " |\n";
 
   ReportSection s;

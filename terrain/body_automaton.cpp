@@ -90,7 +90,6 @@ void BodyAutomaton::set_pose(const Eigen::Isometry3d& world_from_container, cons
 void BodyAutomaton::set_frame_acceleration(const Eigen::Vector3d& a_world_m_s2) {
   if (!a_world_m_s2.allFinite()) throw std::invalid_argument("set_frame_acceleration: the acceleration must be finite");
   frame_acceleration_ = a_world_m_s2;
-  apply_up();
 }
 
 void BodyAutomaton::apply_up() {

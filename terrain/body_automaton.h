@@ -60,7 +60,8 @@ class BodyAutomaton {
   // the frame's origin, the rotation's centripetal part included): the
   // material feels the apparent gravity g - a of its accelerating frame, so
   // the grid's up tilts towards g z + a. Zero (the default): gravity alone.
-  // Kept for every later set_pose.
+  // Takes effect at the next set_pose (the frame's new pose and its
+  // acceleration come together), and is kept for every later one.
   void set_frame_acceleration(const Eigen::Vector3d& a_world_m_s2);
   const Eigen::Vector3d& frame_acceleration() const { return frame_acceleration_; }
   // The world's up in the container frame (the floor's tilt), whatever the

@@ -294,8 +294,7 @@ void MaterialExchange::move_parcels() {
       GranularGrid& g = bodies_[static_cast<std::size_t>(target_body)].automaton->grid();
       g.import_quanta(g.index(ti, tj), p.quanta);
     } else if (target_body == -1) {
-      ground_->import_quanta(ground_->index(ti, tj), p.quanta);
-      if (ground_flow_) ground_flow_->land(*ground_, ground_->index(ti, tj), p.quanta, p.velocity_m_s.x(), p.velocity_m_s.y());
+      land_on_ground(ground_->index(ti, tj), p);
     } else if (target_body == -3) {
       off_site_ += p.quanta;
     } else {
@@ -305,6 +304,11 @@ void MaterialExchange::move_parcels() {
     p = parcels_.back();
     parcels_.pop_back();
   }
+}
+
+void MaterialExchange::land_on_ground(int cell, const FallingParcel& p) {
+  ground_->import_quanta(cell, p.quanta);
+  if (ground_flow_) ground_flow_->land(*ground_, cell, p.quanta, p.velocity_m_s.x(), p.velocity_m_s.y());
 }
 
 void MaterialExchange::land(const FallingParcel& p) {
@@ -332,8 +336,7 @@ void MaterialExchange::land(const FallingParcel& p) {
   }
   int gi = 0, gj = 0;
   if (ground_cell(p.position_m, &gi, &gj)) {
-    ground_->import_quanta(ground_->index(gi, gj), p.quanta);
-    if (ground_flow_) ground_flow_->land(*ground_, ground_->index(gi, gj), p.quanta, p.velocity_m_s.x(), p.velocity_m_s.y());
+    land_on_ground(ground_->index(gi, gj), p);
   } else if (ground_) {
     off_site_ += p.quanta;
   } else {

@@ -128,6 +128,9 @@ class MaterialExchange {
   void feed_frontier(int k);
   void move_parcels();
   void land(const FallingParcel& p);
+  // A parcel reaching the ground's cell: into the grid, and into its fast
+  // flow with its horizontal velocity.
+  void land_on_ground(int cell, const FallingParcel& p);
   void spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocity, std::int64_t quanta, int from_body);
   // The ground cell under a world point; false beside the ground grid (or
   // without one).

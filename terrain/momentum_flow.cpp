@@ -2,6 +2,7 @@
 #include "common/physical_constants.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -16,23 +17,26 @@ constexpr int kDi[4] = {1, -1, 0, 0};
 constexpr int kDj[4] = {0, 0, 1, -1};
 constexpr Edge kEdgeOf[4] = {kEdgeXMax, kEdgeXMin, kEdgeYMax, kEdgeYMin};
 
-// The neighbour of (i, j) towards direction k: its cell index, -1 beyond an
-// open edge (a drop-off), -2 beyond a closed edge or into a covered cell (a wall).
-int neighbour(const GranularGrid& g, int i, int j, int k) {
-  const int ni = i + kDi[k], nj = j + kDj[k];
-  if (!g.contains(ni, nj)) return g.spec().edges[kEdgeOf[k]] == EdgeKind::kOpen ? -1 : -2;
-  const int c = g.index(ni, nj);
+// Cell (i, j)'s index; beyond the grid (across `edge`) -1 for an open edge
+// (a drop-off) and -2 for a closed one; -2 for a covered cell (a wall).
+int cell_or_edge(const GranularGrid& g, int i, int j, Edge edge) {
+  if (!g.contains(i, j)) return g.spec().edges[edge] == EdgeKind::kOpen ? -1 : -2;
+  const int c = g.index(i, j);
   return g.covered(c) ? -2 : c;
 }
 
-}  // namespace
+// The neighbour of (i, j) towards direction k, as cell_or_edge.
+int neighbour(const GranularGrid& g, int i, int j, int k) { return cell_or_edge(g, i + kDi[k], j + kDj[k], kEdgeOf[k]); }
 
-namespace {
+// Whether velocity u across a cell's face towards direction k leaves the cell.
+bool leaves(int k, double u) { return k % 2 == 0 ? u > 0.0 : u < 0.0; }
+
 // Savage-Hutter (2.23) with sign -1 (active) or +1 (passive).
 double earth_pressure(double phi_deg, double delta_deg, double sign) {
   const double c = std::cos(deg_to_rad(phi_deg)), cd = std::cos(deg_to_rad(std::min(delta_deg, phi_deg)));
   return 2.0 / (c * c) * (1.0 + sign * std::sqrt(std::max(0.0, 1.0 - c * c / (cd * cd)))) - 1.0;
 }
+
 }  // namespace
 
 double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, -1.0); }
@@ -97,8 +101,21 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_.assign(n, 0);
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
-  tan_stop_ = tan_deg(soil.stop_angle_deg);
   min_layer_m_ = soil.min_flow_layer_m;
+}
+
+std::array<int, 4> MomentumFlow::faces_of(int cell) const {
+  const int i = cell % nx_, j = cell / nx_;
+  return {x_face(i + 1, j), x_face(i, j), y_face(i, j + 1), y_face(i, j)};
+}
+
+std::pair<int, int> MomentumFlow::sides(const GranularGrid& grid, int face, bool x) const {
+  if (x) {
+    const int i = face % (nx_ + 1), j = face / (nx_ + 1);
+    return {cell_or_edge(grid, i - 1, j, kEdgeXMin), cell_or_edge(grid, i, j, kEdgeXMax)};
+  }
+  const int i = face % nx_, j = face / nx_;
+  return {cell_or_edge(grid, i, j - 1, kEdgeYMin), cell_or_edge(grid, i, j, kEdgeYMax)};
 }
 
 void MomentumFlow::reserve_cells(std::size_t cells) {
@@ -135,13 +152,11 @@ void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta,
   // mean of its velocity and the landing's component across it; a face
   // feeding the cell belongs to its neighbour's layer and is left alone.
   const double w = static_cast<double>(after - std::max<std::int64_t>(before, 0)) / static_cast<double>(after);
-  const int i = cell % nx_, j = cell / nx_;
-  double* face[4] = {&ux_face_[x_face(i + 1, j)], &ux_face_[x_face(i, j)], &uy_face_[y_face(i, j + 1)], &uy_face_[y_face(i, j)]};
+  const std::array<int, 4> faces = faces_of(cell);
   const double along[4] = {vx_m_s, vx_m_s, vy_m_s, vy_m_s};
   for (int k = 0; k < 4; ++k) {
-    const bool outward = k % 2 == 0 ? *face[k] >= 0.0 : *face[k] <= 0.0;
-    const bool landing_out = k % 2 == 0 ? along[k] > 0.0 : along[k] < 0.0;
-    if (outward) *face[k] = (1.0 - w) * *face[k] + (landing_out ? w * along[k] : 0.0);
+    double& u = face_u(k, faces[k]);
+    if (u == 0.0 || leaves(k, u)) u = (1.0 - w) * u + (leaves(k, along[k]) ? w * along[k] : 0.0);
   }
   flowing_[cell] = after;
   fell_[cell] = 1;
@@ -149,12 +164,12 @@ void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta,
 }
 
 double MomentumFlow::velocity_x_m_s(int cell) const {
-  const int i = cell % nx_, j = cell / nx_;
-  return 0.5 * (ux_face_[x_face(i, j)] + ux_face_[x_face(i + 1, j)]);
+  const std::array<int, 4> f = faces_of(cell);
+  return 0.5 * (ux_face_[f[1]] + ux_face_[f[0]]);
 }
 double MomentumFlow::velocity_y_m_s(int cell) const {
-  const int i = cell % nx_, j = cell / nx_;
-  return 0.5 * (uy_face_[y_face(i, j)] + uy_face_[y_face(i, j + 1)]);
+  const std::array<int, 4> f = faces_of(cell);
+  return 0.5 * (uy_face_[f[3]] + uy_face_[f[2]]);
 }
 double MomentumFlow::speed_m_s(int cell) const { return std::hypot(velocity_x_m_s(cell), velocity_y_m_s(cell)); }
 
@@ -183,9 +198,9 @@ void MomentumFlow::step(GranularGrid& grid) {
   double fastest = 0.0;
   auto signal = [&](int c) {
     const double h = grid.loose_quanta(c) * kHeightQuantumM;
-    const int i = c % nx_, j = c / nx_;
-    const double u = std::max(std::abs(ux_face_[x_face(i, j)]), std::abs(ux_face_[x_face(i + 1, j)]));
-    const double v = std::max(std::abs(uy_face_[y_face(i, j)]), std::abs(uy_face_[y_face(i, j + 1)]));
+    const std::array<int, 4> f = faces_of(c);
+    const double u = std::max(std::abs(ux_face_[f[1]]), std::abs(ux_face_[f[0]]));
+    const double v = std::max(std::abs(uy_face_[f[3]]), std::abs(uy_face_[f[2]]));
     return u + v + std::sqrt(kGravity_m_s2 * k_passive_ * h);
   };
   for (int c : moving_) fastest = std::max(fastest, signal(c));
@@ -210,9 +225,9 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
     }
   }
   for (int c : candidates_) {
-    const int i = c % nx_, j = c / nx_;
-    mark_face(x_face(i, j), true), mark_face(x_face(i + 1, j), true);
-    mark_face(y_face(i, j), false), mark_face(y_face(i, j + 1), false);
+    const std::array<int, 4> f = faces_of(c);
+    mark_face(f[1], true), mark_face(f[0], true);
+    mark_face(f[3], false), mark_face(f[2], false);
   }
   fail(grid, dt_s);
   accelerate(grid, dt_s);
@@ -242,35 +257,26 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   auto relax = [&](int c) {
     const int i = c % nx_, j = c / nx_;
     double core = core_[c];
+    const auto lower = [&](int nb, double rise_to_it) {
+      core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + rise_to_it);
+    };
     if (i > 0 && j > 0 && i + 1 < nx_ && j + 1 < ny_) {
       // Inside the grid: the neighbours by offset.
       const int offsets[8] = {-1, 1, -nx_, nx_, -nx_ - 1, -nx_ + 1, nx_ - 1, nx_ + 1};
-      for (int k = 0; k < 8; ++k) {
-        const int nb = c + offsets[k];
-        if (grid.covered(nb)) continue;
-        core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + (k < 4 ? rise : rise_diag));
-      }
-      core = std::max(core, static_cast<double>(grid.base_at(c)));
-      const bool changed = core < core_[c];
-      core_[c] = core;
-      return changed;
-    }
-    for (int dj = -1; dj <= 1; ++dj)
-      for (int di = -1; di <= 1; ++di) {
-        if (di == 0 && dj == 0) continue;
-        const int ni = i + di, nj = j + dj;
-        double below;
-        if (!grid.contains(ni, nj)) {
+      for (int k = 0; k < 8; ++k)
+        if (!grid.covered(c + offsets[k])) lower(c + offsets[k], k < 4 ? rise : rise_diag);
+    } else {
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          if (di == 0 && dj == 0) continue;
+          const int ni = i + di, nj = j + dj;
           const Edge edge = ni < 0 ? kEdgeXMin : ni >= nx_ ? kEdgeXMax : nj < 0 ? kEdgeYMin : kEdgeYMax;
-          if (grid.spec().edges[edge] != EdgeKind::kOpen) continue;
-          below = grid.base_at(c);  // a drop-off: bare base at the cell's own level
-        } else {
-          const int nb = grid.index(ni, nj);
-          if (grid.covered(nb)) continue;
-          below = listed_[nb] ? core_[nb] : grid.surface_at(nb);
+          const int nb = cell_or_edge(grid, ni, nj, edge);
+          const double rise_to_it = di != 0 && dj != 0 ? rise_diag : rise;
+          if (nb >= 0) lower(nb, rise_to_it);
+          else if (nb == -1) core = std::min(core, grid.base_at(c) + rise_to_it);  // a drop-off: bare base at the cell's own level
         }
-        core = std::min(core, below + (di != 0 && dj != 0 ? rise_diag : rise));
-      }
+    }
     core = std::max(core, static_cast<double>(grid.base_at(c)));
     const bool changed = core < core_[c];
     core_[c] = core;
@@ -320,11 +326,10 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
         rain_[c] -= lands;
         if (rain_[c] == 0) fell_[c] = 1;
         const double keep = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
-        const int i = c % nx_, j = c / nx_;
         // The faces this cell feeds carry its layer's momentum, now spread over more mass.
-        double* out[4] = {&ux_face_[x_face(i + 1, j)], &ux_face_[x_face(i, j)], &uy_face_[y_face(i, j + 1)], &uy_face_[y_face(i, j)]};
+        const std::array<int, 4> faces = faces_of(c);
         for (int k = 0; k < 4; ++k)
-          if ((k % 2 == 0) ? *out[k] > 0.0 : *out[k] < 0.0) *out[k] *= keep;
+          if (leaves(k, face_u(k, faces[k]))) face_u(k, faces[k]) *= keep;
         flowing += lands;
       }
     } else {
@@ -344,9 +349,14 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
   // Coulomb friction on the bed (and the side walls) along the flow's
   // direction; a face whose donor holds no flowing layer stands still.
   // Every face is read before any is written.
-  auto face_velocity = [&](int a, int b, double u, double cross, int donor_plus, int donor_minus, double div_plus,
-                           double div_minus) {
+  auto divergence = [&](int cell) {
+    if (cell < 0) return 0.0;
+    const std::array<int, 4> f = faces_of(cell);
+    return ux_face_[f[0]] - ux_face_[f[1]] + uy_face_[f[2]] - uy_face_[f[3]];
+  };
+  auto face_velocity = [&](int face, bool x, double u, double cross) {
     // a, b: the cells on the face's minus and plus sides (-1 drop-off, -2 wall).
+    const auto [a, b] = sides(grid, face, x);
     if (a == -2 || b == -2) return 0.0;
     const double ha = a >= 0 ? grid.surface_at(a) - rain_[a] * kHeightQuantumM : grid.base_at(b);
     const double hb = b >= 0 ? grid.surface_at(b) - rain_[b] * kHeightQuantumM : grid.base_at(a);
@@ -354,9 +364,9 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     // The donor is the side the face's flow would come from.
     const double push = -(hb - ha) / d_;
     const bool plus = u != 0.0 ? u > 0.0 : push > 0.0;
-    const int donor = plus ? donor_plus : donor_minus;
+    const int donor = plus ? a : b;
     if (donor < 0 || flowing_[donor] == 0) return 0.0;
-    const double k_earth = (plus ? div_plus : div_minus) >= 0.0 ? k_active_ : k_passive_;
+    const double k_earth = divergence(donor) >= 0.0 ? k_active_ : k_passive_;
     // -g (grad H + (K - 1) grad f): Savage-Hutter (2.23) on the face.
     const double acc = -kGravity_m_s2 * ((hb - ha) + (k_earth - 1.0) * (fb - fa)) / d_;
     double un = u + acc * dt_s;
@@ -364,27 +374,15 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double speed = std::hypot(un, cross), loss = (mu_ + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };
-  auto divergence = [&](int cell) {
-    if (cell < 0) return 0.0;
-    const int i = cell % nx_, j = cell / nx_;
-    return ux_face_[x_face(i + 1, j)] - ux_face_[x_face(i, j)] + uy_face_[y_face(i, j + 1)] - uy_face_[y_face(i, j)];
-  };
-  auto cell_or_edge = [&](int i, int j, Edge edge) {
-    if (!grid.contains(i, j)) return grid.spec().edges[edge] == EdgeKind::kOpen ? -1 : -2;
-    const int c = grid.index(i, j);
-    return grid.covered(c) ? -2 : c;
-  };
   new_x_.resize(x_faces_.size());
   new_y_.resize(y_faces_.size());
   for (std::size_t n = 0; n < x_faces_.size(); ++n) {
-    const int f = x_faces_[n], i = f % (nx_ + 1), j = f / (nx_ + 1);
-    const int a = cell_or_edge(i - 1, j, kEdgeXMin), b = cell_or_edge(i, j, kEdgeXMax);
-    new_x_[n] = face_velocity(a, b, ux_face_[f], cross_speed_at_x_face(i, j), a, b, divergence(a), divergence(b));
+    const int f = x_faces_[n];
+    new_x_[n] = face_velocity(f, true, ux_face_[f], cross_speed_at_x_face(f % (nx_ + 1), f / (nx_ + 1)));
   }
   for (std::size_t n = 0; n < y_faces_.size(); ++n) {
-    const int f = y_faces_[n], i = f % nx_, j = f / nx_;
-    const int a = cell_or_edge(i, j - 1, kEdgeYMin), b = cell_or_edge(i, j, kEdgeYMax);
-    new_y_[n] = face_velocity(a, b, uy_face_[f], cross_speed_at_y_face(i, j), a, b, divergence(a), divergence(b));
+    const int f = y_faces_[n];
+    new_y_[n] = face_velocity(f, false, uy_face_[f], cross_speed_at_y_face(f % nx_, f / nx_));
   }
   for (std::size_t n = 0; n < x_faces_.size(); ++n) ux_face_[x_faces_[n]] = new_x_[n];
   for (std::size_t n = 0; n < y_faces_.size(); ++n) uy_face_[y_faces_[n]] = new_y_[n];
@@ -399,7 +397,7 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
     const std::int64_t q = flowing_[c];
     if (q == 0) continue;
     const int i = c % nx_, j = c / nx_;
-    const int faces[4] = {x_face(i + 1, j), x_face(i, j), y_face(i, j + 1), y_face(i, j)};
+    const std::array<int, 4> faces = faces_of(c);
     const double u[4] = {std::max(ux_face_[faces[0]], 0.0), std::max(-ux_face_[faces[1]], 0.0),
                          std::max(uy_face_[faces[2]], 0.0), std::max(-uy_face_[faces[3]], 0.0)};
     std::int64_t out[4] = {0, 0, 0, 0}, total = 0;
@@ -466,29 +464,23 @@ void MomentumFlow::settle(const GranularGrid& grid) {
   }
   // Cells that only received this sub-step are among the candidates (the
   // moving cells' neighbours), so every changed layer is seen above.
-  auto donor_still = [&](int a, int b, double u) {
+  auto donor_still = [&](int face, bool x, double u) {
+    const auto [a, b] = sides(grid, face, x);
     const int donor = u > 0.0 ? a : b;
     return donor >= 0 && flowing_[donor] > 0;
   };
-  for (int f : x_faces_) {
-    const int i = f % (nx_ + 1), j = f / (nx_ + 1);
-    const int a = i - 1 >= 0 ? grid.index(i - 1, j) : -1, b = i < nx_ ? grid.index(i, j) : -1;
-    if (ux_face_[f] != 0.0 && !donor_still(a, b, ux_face_[f])) ux_face_[f] = 0.0;
-  }
-  for (int f : y_faces_) {
-    const int i = f % nx_, j = f / nx_;
-    const int a = j - 1 >= 0 ? grid.index(i, j - 1) : -1, b = j < ny_ ? grid.index(i, j) : -1;
-    if (uy_face_[f] != 0.0 && !donor_still(a, b, uy_face_[f])) uy_face_[f] = 0.0;
-  }
+  for (int f : x_faces_)
+    if (ux_face_[f] != 0.0 && !donor_still(f, true, ux_face_[f])) ux_face_[f] = 0.0;
+  for (int f : y_faces_)
+    if (uy_face_[f] != 0.0 && !donor_still(f, false, uy_face_[f])) uy_face_[f] = 0.0;
   for (int c : candidates_) {
     if (rain_[c] > 0) {
       moving_.push_back(c);
       continue;
     }
     if (flowing_[c] == 0) continue;
-    const int i = c % nx_, j = c / nx_;
-    const bool moves = ux_face_[x_face(i, j)] != 0.0 || ux_face_[x_face(i + 1, j)] != 0.0 ||
-                       uy_face_[y_face(i, j)] != 0.0 || uy_face_[y_face(i, j + 1)] != 0.0;
+    const std::array<int, 4> f = faces_of(c);
+    const bool moves = ux_face_[f[0]] != 0.0 || ux_face_[f[1]] != 0.0 || uy_face_[f[2]] != 0.0 || uy_face_[f[3]] != 0.0;
     if (moves) moving_.push_back(c);
     else flowing_[c] = 0;
   }

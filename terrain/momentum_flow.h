@@ -38,7 +38,9 @@
 // (wake_all, land) or beside a moving cell.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "terrain/granular_grid.h"
@@ -125,6 +127,12 @@ class MomentumFlow {
   // [0, nx]; y-face (i, j) between (i, j - 1) and (i, j), j in [0, ny].
   int x_face(int i, int j) const { return j * (nx_ + 1) + i; }
   int y_face(int i, int j) const { return j * nx_ + i; }
+  // A cell's faces towards +x, -x, +y, -y, and the velocity on face `face`
+  // of such a direction k.
+  std::array<int, 4> faces_of(int cell) const;
+  double& face_u(int k, int face) { return k < 2 ? ux_face_[face] : uy_face_[face]; }
+  // The cells on a face's minus and plus sides (-1 a drop-off, -2 a wall).
+  std::pair<int, int> sides(const GranularGrid& grid, int face, bool x) const;
   void substep(GranularGrid& grid, double dt_s);
   void fail(const GranularGrid& grid, double dt_s);
   void accelerate(const GranularGrid& grid, double dt_s);
@@ -139,7 +147,7 @@ class MomentumFlow {
 
   int nx_ = 0, ny_ = 0;
   double step_dt_s_ = 0.0, d_ = 0.0;
-  double mu_ = 0.0, mu_start_ = 0.0, tan_stop_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
+  double mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0;
   bool raining_ = true;

@@ -45,15 +45,6 @@ std::unique_ptr<engine::World> loader_before_strip(double cells_per_m, double ba
   return w;
 }
 
-// Nose-up pitch of the bucket's floor (rad).
-double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->geometric_up().x()); }
-
-// The operator keeps the bucket's floor at `pitch_rad` with the tilt lever
-// (this machine has no self-levelling: raising the arm rolls the bucket back).
-void hold_pitch(const engine::World& w, double pitch_rad, vehicle::LoaderControls& c, double max_lever = 1.0) {
-  c.tilt = std::clamp(6.0 * (bucket_pitch(w) - pitch_rad), -max_lever, max_lever);
-}
-
 double bucket_kg(const engine::World& w) { return w.bucket_material()->material_mass_kg(); }
 
 struct Books {

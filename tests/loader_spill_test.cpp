@@ -16,32 +16,20 @@
 #include "common/physical_constants.h"
 #include "engine/soil_site.h"
 #include "engine/world.h"
-#include "io/soil_table.h"
 #include "tests/loader_support.h"
 
 namespace skidsim::testing {
 namespace {
 
-const io::SoilRecord& sand() {
-  static const io::SoilRecord s = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
-  return s;
-}
-
-double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->geometric_up().x()); }
-
-void hold_pitch(const engine::World& w, double pitch_rad, vehicle::LoaderControls& c) {
-  c.tilt = std::clamp(6.0 * (bucket_pitch(w) - pitch_rad), -1.0, 1.0);
-}
-
 // A loader on a bare site (a soil grid with no soil over firm ground), its
 // bucket rolled back, loaded level-struck to its lip's height in the world
-// and, when `heaped`, with a heap on top rising from the lip at the repose
-// angle to `heap_m` above the struck level.
+// and, when `heaped`, with a heap on top rising from the lip at 0.9 of the
+// repose slope to 0.25 m above the struck level.
 std::unique_ptr<engine::World> loaded_loader(double cells_per_m, bool heaped, bool fast_flow) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0, 0, shipped_loader().tyre.radius_m - 0.01);
   auto w = std::make_unique<engine::World>(shipped_loader(), engine::FirmGround{}, pose, 0.3, 0.0);
-  w->add_soil_site(engine::flat_soil_grid(sand().flow, cells_per_m, {-3.0, -4.0}, 40.0, 8.0, 0.0), sand().terramechanics);
+  w->add_soil_site(engine::flat_soil_grid(dry_sand().flow, cells_per_m, {-3.0, -4.0}, 40.0, 8.0, 0.0), dry_sand().terramechanics);
   if (fast_flow) w->enable_fast_flow(terrain::MomentumFlowParameters{});
   vehicle::LoaderControls c;
   for (int s = 0; s < 1500; ++s) {
@@ -55,7 +43,7 @@ std::unique_ptr<engine::World> loaded_loader(double cells_per_m, bool heaped, bo
   const Eigen::Vector3d up = b.geometric_up();
   // The lip: the floor's front edge; the struck level its world height.
   const double lip_z = b.world_point(g.nx() - 0.5, 0.5 * g.ny(), 0.0).z();
-  const double tan_repose = std::tan(sand().flow.repose_angle_deg * kPi / 180.0);
+  const double tan_repose = std::tan(dry_sand().flow.repose_angle_deg * kPi / 180.0);
   for (int j = 0; j < g.ny(); ++j)
     for (int i = 0; i < g.nx(); ++i) {
       const double floor_z = b.world_point(i, j, 0.0).z();
@@ -83,7 +71,7 @@ struct Carry {
 double wedge_spill_kg(const terrain::BodyAutomaton& b, const std::vector<double>& heights_m, const Eigen::Matrix3d& world_from_container,
                       double decel_m_s2) {
   const terrain::GranularGrid& g = b.grid();
-  const double d = g.cell_size_m(), tan_stop = std::tan(sand().flow.stop_angle_deg * kPi / 180.0);
+  const double d = g.cell_size_m(), tan_stop = std::tan(dry_sand().flow.stop_angle_deg * kPi / 180.0);
   const Eigen::Vector3d up =
       (world_from_container.transpose() * Eigen::Vector3d(-decel_m_s2, 0.0, kGravity_m_s2)).normalized();
   double excess_m = 0.0;

@@ -2,6 +2,7 @@
 // ground, settled.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -21,6 +22,15 @@ inline const vehicle::LoaderDescription& shipped_loader() {
 inline const io::SoilRecord& dry_sand() {
   static const io::SoilRecord s = io::load_soil_table(io::default_soil_table_path()).at("dry_sand");
   return s;
+}
+
+// Nose-up pitch of the bucket's floor (rad).
+inline double bucket_pitch(const engine::World& w) { return std::asin(w.bucket_material()->geometric_up().x()); }
+
+// The operator keeps the bucket's floor at `pitch_rad` with the tilt lever
+// (this machine has no self-levelling: raising the arm rolls the bucket back).
+inline void hold_pitch(const engine::World& w, double pitch_rad, vehicle::LoaderControls& c, double max_lever = 1.0) {
+  c.tilt = std::clamp(6.0 * (bucket_pitch(w) - pitch_rad), -max_lever, max_lever);
 }
 
 // Steps for `seconds` of simulated time with fixed controls.
