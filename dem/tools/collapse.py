@@ -38,20 +38,11 @@ import math
 import os
 import sys
 
-from dem_io import read_dump
+from dem_io import read_dump, read_quantities
 
 D50_M = 0.008          # dem/material.in: radii 3.6 / 4.0 / 4.4 mm
 G_M_S2 = 9.80665
 RHO_GRAIN = 2650.0
-
-
-def read_meta(path):
-    meta = {}
-    for line in open(path):
-        parts = line.strip().split(",")
-        if len(parts) >= 2 and parts[0] != "quantity":
-            meta[parts[0]] = parts[1]
-    return meta
 
 
 def grain_mass(r):
@@ -114,7 +105,7 @@ def kinetic_energy(atoms):
 
 
 def post_run(scratch, results, meta_path):
-    meta = read_meta(meta_path)
+    meta = read_quantities(meta_path)
     geom = meta["geometry"]
     aspect = meta["aspect_ratio"]
     slot = geom == "slot"

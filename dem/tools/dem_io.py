@@ -1,5 +1,5 @@
-"""Shared by the post-processing scripts: reading LIGGGHTS text dumps and a
-least-squares line (Python 3, stdlib only)."""
+"""Shared by the post-processing scripts: reading LIGGGHTS text dumps and
+quantity CSVs, and a least-squares line (Python 3, stdlib only)."""
 
 
 def read_dump(path):
@@ -20,14 +20,20 @@ def read_dump(path):
     return rows
 
 
-def read_material(path):
-    """dem/calibration/material.csv as {quantity: value}."""
-    mat = {}
+def read_quantities(path):
+    """A quantity,value,unit CSV (the decks' metadata, the calibration's
+    results) as {quantity: value text}."""
+    out = {}
     for line in open(path):
         p = line.strip().split(",")
-        if len(p) >= 2 and not line.startswith("quantity"):
-            mat[p[0]] = float(p[1])
-    return mat
+        if len(p) >= 2 and p[0] != "quantity":
+            out[p[0]] = p[1]
+    return out
+
+
+def read_material(path):
+    """dem/calibration/material.csv as {quantity: value}."""
+    return {k: float(v) for k, v in read_quantities(path).items()}
 
 
 def line_fit(points):

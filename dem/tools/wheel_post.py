@@ -23,18 +23,11 @@ import re
 import shutil
 import sys
 
+from dem_io import read_quantities
+
 RADIUS_M = 0.15  # dem/wheel/wheel.in and dem/tools/meshes.py
 WIDTH_M = 0.10
 WINDOW_FROM_M = 0.12
-
-
-def kv(path):
-    out = {}
-    for line in open(path):
-        p = line.strip().split(",")
-        if len(p) >= 2 and p[0] != "quantity":
-            out[p[0]] = p[1]
-    return out
 
 
 def stats(xs):
@@ -46,7 +39,7 @@ def main():
     out_dir, bekker, rim, files = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
     rim_delta = float(re.search(r"delta_deg=([-\d.]+)", open(rim).read()).group(1))
     os.makedirs(out_dir, exist_ok=True)
-    z_s = float(kv(bekker)["surface_level_m"])
+    z_s = float(read_quantities(bekker)["surface_level_m"])
     rows_out = []
     for path in files:
         case = re.search(r"wheel_(.+)\.csv$", path).group(1)
