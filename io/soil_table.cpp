@@ -59,6 +59,8 @@ SoilTable load_soil_table(const std::string& path) {
     // the soil as it lies; the automaton ignores both.
     rec.flow.slip_cohesion_Pa = 1000.0 * f.number_in_or("slip_cohesion_kPa", 0.0, 1e4, 0.0);
     rec.flow.slip_friction_angle_deg = f.number_in_or("slip_friction_angle_deg", 0.0, 89.0, 0.0);
+    // Fast flows (a site that turns them on): a flowing layer's bed friction.
+    rec.flow.flowing_friction_angle_deg = f.number_in_or("flowing_friction_angle_deg", 0.0, 89.0, 0.0);
     f.reject_unknown();
     f.reject_content();
     try {

@@ -11,12 +11,24 @@ namespace skidsim::report::perf {
 
 namespace fs = std::filesystem;
 
-std::vector<DemColumn> read_dem_columns(const fs::path& dir) {
+std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir) {
+  const fs::path dir = dem_dir / "collapse" / "results";
+  const fs::path material = dem_dir / "calibration" / "material.csv";
+  const std::map<std::string, double> m = read_csv_quantities(material);
+  auto quantity = [&](const std::string& name) {
+    const auto it = m.find(name);
+    if (it == m.end()) throw std::runtime_error(material.string() + ": no quantity " + name);
+    return it->second;
+  };
+  const double floor_deg = quantity("floor_flowing_friction_angle_deg");
+  const double wall_deg = quantity("slot_wall_flowing_friction_angle_deg");
   const fs::path summary = dir / "summary.csv";
   const CsvNumbers csv = read_csv_numbers(summary);
   std::vector<DemColumn> out;
   for (const auto& row : csv.rows) {
     DemColumn c;
+    c.floor_friction_deg = floor_deg;
+    c.slot_wall_friction_deg = wall_deg;
     c.slot = row[csv.column("slot", summary)] != 0.0;
     c.aspect = row[csv.column("aspect_ratio", summary)];
     c.drop_over_r0 = row[csv.column("drop_m", summary)] / row[csv.column("r0_m", summary)];
@@ -41,16 +53,16 @@ std::string column_name(const DemColumn& c) {
   return std::string(c.slot ? "slot" : "tube") + ", a = " + fmt("%g", c.aspect);
 }
 
-terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining,
-                                      const terrain::SoilMechanics& soil) {
+terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining) {
   terrain::CollapseCase c;
   c.slot = dem.slot;
   c.aspect = dem.aspect;
   c.cell_m = cell_m;
   c.momentum = momentum;
   c.momentum_params.raining = raining;
+  c.momentum_params.floor_friction_deg = dem.floor_friction_deg;
   c.drop_over_r0 = dem.drop_over_r0;
-  c.slot_wall_friction_deg = soil.tool_friction_angle_deg;
+  c.slot_wall_friction_deg = dem.slot_wall_friction_deg;
   return c;
 }
 

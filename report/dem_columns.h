@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "experiments/column_collapse.h"
-#include "terrain/soil_mechanics.h"
 
 namespace skidsim::report::perf {
 
@@ -22,22 +21,29 @@ namespace skidsim::report::perf {
 // one by one far out, which no height field holds: compare its edge.
 struct DemColumn {
   bool slot = false;
+  // The deck's floor and the slot's steel side walls as a flowing layer
+  // feels them, from the inclined-layer tests on the same floor and between
+  // the same walls (dem/calibration/material.csv, dem/calibration/chute.in),
+  // never from the columns: the floor's stop angle (deg) and the walls'
+  // friction angle (deg).
+  double floor_friction_deg = 0.0, slot_wall_friction_deg = 0.0;
   // A column let go this far (over r0) above the floor (0: standing on it).
   double drop_over_r0 = 0.0;
   double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
   std::vector<std::pair<double, double>> front;  // t / sqrt(H0 / g), (r99 - r99(0)) / r0
 };
 
-// Throws std::runtime_error naming the file and column when one is missing.
-std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dir);
+// The columns of the DEM reference in `dem_dir` (the repository's dem/):
+// collapse/results and calibration/material.csv. Throws std::runtime_error
+// naming the file and column or quantity when one is missing.
+std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dem_dir);
 
 std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "dropped 4 r0, a = 1"
-// The DEM column's case on the grid at `cell_m`: the slot's steel walls at
-// the soil's tool friction angle (the steel sliding plate's), the fast-flow
-// prototype on when `momentum`, at its defaults (bed friction the stop
-// angle, the core at the repose angle, raining) unless `raining` is false.
-terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining,
-                                      const terrain::SoilMechanics& soil);
+// The DEM column's case on the grid at `cell_m`: the fast flow on when
+// `momentum`, at its defaults (bed friction the soil's flowing friction,
+// the core at the repose angle, raining) unless `raining` is false, on the
+// deck's floor and, in the slot, between its walls (DemColumn).
+terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining);
 
 // The run-out compared: r99's, or for a dropped column its edge's (its
 // impact scatters single grains far out, DemColumn); and the worst of the

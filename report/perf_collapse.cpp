@@ -33,7 +33,8 @@ bool tube(const DemColumn& c) { return !c.slot && c.drop_over_r0 == 0.0; }
 
 ReportSection collapse_dem_section(const ReportContext& ctx) {
   const fs::path root = fs::path(io::default_assets_dir()).parent_path();
-  const std::vector<DemColumn> dem = read_dem_columns(root / "dem" / "collapse" / "results");
+  const std::vector<DemColumn> dem = read_dem_columns(root / "dem");
+  if (dem.empty()) throw std::runtime_error("performance report: no DEM columns in " + (root / "dem").string());
   const io::SoilRecord dem_sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand");
   const terrain::SoilFlowParameters& sand = dem_sand.flow;
   const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.05};
@@ -46,7 +47,6 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
     GroundModel model;
     bool momentum, raining;
   };
-  const terrain::SoilMechanics& sand_mech = dem_sand.terramechanics;
   const std::vector<Variant> variants =
       ctx.quick ? std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false, false}}
                 : std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false, false},
@@ -75,7 +75,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       bool books = true;
       for (std::size_t k = 0; k < dem.size(); ++k) {
         const DemColumn& d = dem[k];
-        const CollapseCase c = dem_column_case(d, cell, v.momentum, v.raining, sand_mech);
+        const CollapseCase c = dem_column_case(d, cell, v.momentum, v.raining);
         const CollapseRun run = terrain::run_column_collapse(c, soil);
         worst = std::max(worst, column_error(d, run));
         wall += run.wall_s, simulated += run.steps * c.step_dt_s;
@@ -122,7 +122,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "Granular columns released on a rough floor (dem/collapse, LIGGGHTS; scripts/dem_reference.sh, stages collapse "
       "and collapse_post): axisymmetric columns of radius r0 = 0.1 m and aspect ratio a = H0 / r0, and a column "
       "between the walls of a slot 0.08 m wide, in the calibrated DEM material. skidsim's column is the same in "
-      "dimensionless form, scaled to r0 = 1 m in `dem_sand` (whose repose and stop angles come from the DEM's pile), "
+      "dimensionless form, scaled to r0 = 1 m in `dem_sand` (whose repose angle comes from the DEM's pile and its "
+      "flowing friction from the DEM's inclined layer), "
       "so that 10 and 5 cm cells are 10 and 20 per radius; collapses of cohesionless grains depend on a and the "
       "material's friction, not on r0 (Lajeunesse et al. 2004, Lube et al. 2004). Run-out: the advance of the "
       "distance within which 99 % of the mass lies, over r0; height: the column's at the axis (or the back wall) "
@@ -132,10 +133,12 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "prototype (terrain/momentum_flow.h, docs/terrain_model.md): everything above the stable core (the highest "
       "surface no steeper than the repose angle, " + fmt("%.1f", sand.repose_angle_deg) + " deg) fails, falls "
       "freely and lands on a flowing layer without horizontal momentum (raining, Larrieu et al. 2006); the layer "
-      "carries velocities on the cells' faces (Savage-Hutter, Coulomb friction on its bed at the stop angle, " +
-      fmt("%.1f", sand.stop_angle_deg) + " deg, the mu_s of the mu(I) law; in the slot, also on its side walls at "
-      "the steel sliding plate's " + fmt("%.1f", sand_mech.tool_friction_angle_deg) + " deg) until friction stops "
-      "it; it runs beside the automaton, which keeps the slow avalanches. \"momentum, hydrostatic\" is the same "
+      "carries velocities on the cells' faces (Savage-Hutter, Coulomb friction on its bed at the soil's flowing "
+      "friction, " + fmt("%.1f", sand.flowing_friction_deg()) + " deg, the mu_s of the mu(I) law, and on the bare "
+      "floor at the floor's, " + fmt("%.1f", dem.front().floor_friction_deg) + " deg; in the slot, also on its "
+      "side walls at " + fmt("%.1f", dem.front().slot_wall_friction_deg) + " deg; all three from the DEM's inclined "
+      "layers, dem/calibration/chute.in) until friction stops it; it runs beside the automaton, which keeps the "
+      "slow avalanches. \"momentum, hydrostatic\" is the same "
       "without raining: the failed mass flows at once. The dropped column (a = 1 let go 4 r0 above the floor, as a "
       "bucket's load dumped from 2 m) falls as parcels (terrain/material_exchange.h) that land with their momentum; "
       "its impact scatters single grains far out in the DEM, which no height field holds, so its run-out is the "

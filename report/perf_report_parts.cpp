@@ -38,6 +38,26 @@ CsvNumbers read_csv_numbers(const std::filesystem::path& path) {
   return out;
 }
 
+std::map<std::string, double> read_csv_quantities(const std::filesystem::path& path, std::size_t value_column) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("performance report: cannot read " + path.string());
+  std::map<std::string, double> out;
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (cells.size() <= value_column || cells[0].empty() || cells[0][0] == '#') continue;
+    try {
+      out[cells[0]] = std::stod(cells[value_column]);
+    } catch (const std::exception&) {
+      throw std::runtime_error("performance report: " + path.string() + ": " + cells[0] + " is not a number");
+    }
+  }
+  return out;
+}
+
 std::string fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);

@@ -114,6 +114,11 @@ struct CsvNumbers {
 };
 // Throws std::runtime_error naming the file when it cannot be read or a row is short.
 CsvNumbers read_csv_numbers(const std::filesystem::path& path);
+// A quantity,value,... CSV (dem/calibration/material.csv, the calibration's
+// results): its rows' numbers in `value_column` by their first column.
+// Throws std::runtime_error naming the file when it cannot be read or a
+// value is not a number.
+std::map<std::string, double> read_csv_quantities(const std::filesystem::path& path, std::size_t value_column = 1);
 
 // A job's summary.json in `dir`; throws naming the folder when it is missing.
 nlohmann::json read_summary(const std::filesystem::path& dir);

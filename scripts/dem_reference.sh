@@ -4,9 +4,10 @@
 # (calibration, bed, blade runs, bucket; the wheel bed, its sinkage plates and the wheel runs;
 # the collapsing columns) and post-processes them into the committed CSVs. See dem/README.md.
 #
-#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide bed blade bucket
-#                                            wheel_bed plate wheel post wheel_post collapse
-#                                            collapse_post (default: all, in that order);
+#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute bed blade
+#                                            bucket wheel_bed plate wheel chute_post post
+#                                            wheel_post collapse collapse_post (default: all,
+#                                            in that order);
 #                                            optional stage "wide": the deep vertical cut in a
 #                                            0.5 m wide bin (its own bed, about 25 min more),
 #                                            then "post"
@@ -105,6 +106,41 @@ stage_slide() {
     run_deck "slide_rim_$sn" "$c" sliding_plate.in -var sn "$sn" -var ptype 3 -var meshdir "$(rel "$MESHES" "$c")" \
       -var out "$(rel "$SCRATCH/slide_rim/slide_rim_$sn.txt" "$c")" &
   done
+}
+
+# Inclined layers (dem/calibration/chute.in): a flowing layer's friction as it slows to rest, on
+# the grains themselves (three thicknesses, towards the thick flow's limit), on the collapsing
+# columns' floor (three) and between the slot's steel side walls (two, on that floor). Each run:
+# "NAME BASE LAYERS WALL_GAP_M KICK_DEG ANGLES...".
+CHUTE_RUNS=(
+  "grains_n16 1 16 0 38 32 30 28 26 24 22 20 18"
+  "grains_n32 1 32 0 38 32 30 28 26 24 22 20 18"
+  "grains_n64 1 64 0 38 26 24 22 20 18"
+  "floor_n4 3 4 0 38 24 20 16 12"
+  "floor_n8 3 8 0 38 24 22 20 18 16 14 12"
+  "floor_n16 3 16 0 38 32 30 28 26 24 22 20 18 16 14 12 10"
+  "walls_n4 3 4 0.08 42 36 34 32 30 28 26 24 22 20"
+  "walls_n8 3 8 0.08 46 42 40 38 36 34 32 30 28 26"
+)
+stage_chute() {
+  local run name base layers gap kick c="$DEM/calibration"
+  mkdir -p "$SCRATCH/chute"
+  for run in "${CHUTE_RUNS[@]}"; do
+    read -r name base layers gap kick angles <<< "$run"
+    throttle
+    # shellcheck disable=SC2086  # the angles are one argument each
+    run_deck "chute_$name" "$c" chute.in -var base "$base" -var layers "$layers" -var W "$gap" -var kick "$kick" \
+      -var theta $angles -var out "$(rel "$SCRATCH/chute" "$c")" &
+  done
+}
+
+# The inclined layers' stop angles, then the calibrated material (material.csv) with them.
+stage_chute_post() {
+  wait_ok
+  local cal="$DEM/calibration/results"
+  "$PY" "$DEM/tools/chute.py" "$cal" "$SCRATCH/chute"
+  "$PY" "$DEM/tools/material_csv.py" "$cal" "$DEM/calibration/material.csv"
+  write_meta
 }
 
 stage_bed() {
@@ -257,8 +293,8 @@ write_meta() {
 }
 
 stages=("$@")
-((${#stages[@]})) || stages=(meshes pile shear slide bed blade bucket wheel_bed plate wheel post wheel_post collapse
-  collapse_post)
+((${#stages[@]})) || stages=(meshes pile shear slide chute bed blade bucket wheel_bed plate wheel chute_post post
+  wheel_post collapse collapse_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done

@@ -43,6 +43,8 @@ void validate(const SoilFlowParameters& soil) {
     bad_field(soil, "slip_cohesion_Pa", soil.slip_cohesion_Pa, "in [0, 1e6]");
   if (!(soil.slip_friction_angle_deg >= 0.0 && soil.slip_friction_angle_deg < 89.0))
     bad_field(soil, "slip_friction_angle_deg", soil.slip_friction_angle_deg, "in [0, 89)");
+  if (!(soil.flowing_friction_angle_deg >= 0.0 && soil.flowing_friction_angle_deg <= soil.repose_angle_deg))
+    bad_field(soil, "flowing_friction_angle_deg", soil.flowing_friction_angle_deg, "in [0, repose_angle_deg]");
 }
 
 FlowLaw derive_flow_law(const SoilFlowParameters& soil, double cell_size_m,

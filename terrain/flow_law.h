@@ -41,6 +41,14 @@ struct SoilFlowParameters {
   double slip_cohesion_Pa = 0.0;
   double slip_friction_angle_deg = 0.0;
   double slip_friction_deg() const { return slip_friction_angle_deg > 0.0 ? slip_friction_angle_deg : repose_angle_deg; }
+  // A flowing layer's friction on its bed as it slows to rest: the mu_s of
+  // the mu(I) law, the angle below which a thick flow on an incline stops
+  // (Pouliquen 1999; dem/calibration/chute.in measures it). The fast flow's
+  // bed friction (terrain/momentum_flow.h); 0 takes alpha_I. It is not
+  // alpha_I itself: the automaton's poured cones stand at alpha_I, while a
+  // flowing layer, dilated, slides on to a gentler angle.
+  double flowing_friction_angle_deg = 0.0;
+  double flowing_friction_deg() const { return flowing_friction_angle_deg > 0.0 ? flowing_friction_angle_deg : stop_angle_deg; }
 };
 
 // Throws std::invalid_argument naming the offending field when a value is out

@@ -43,15 +43,18 @@ double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pr
 double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, 1.0); }
 
 MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameters& params, double step_dt_s)
-    : step_dt_s_(step_dt_s), d_(grid.cell_size_m()), courant_(params.courant), max_substeps_(params.max_substeps), raining_(params.raining) {
+    : step_dt_s_(step_dt_s), d_(grid.cell_size_m()), courant_(params.courant), max_substeps_(params.max_substeps), raining_(params.raining), erosion_(params.erosion) {
   const SoilFlowParameters& soil = grid.soil();
-  const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.stop_angle_deg;
+  const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.flowing_friction_deg();
   const double start_deg = params.start_friction_deg > 0.0 ? params.start_friction_deg : soil.repose_angle_deg;
   if (!(bed_deg > 0.0 && bed_deg < 89.0 && start_deg >= bed_deg && start_deg < 89.0))
     throw std::invalid_argument("momentum flow: bed friction must be in (0, 89) deg and at most the start friction");
   if (!(courant_ > 0.0 && (courant_ <= 0.5 || (params.study_past_bound && courant_ <= 8.0))))
     throw std::invalid_argument("momentum flow: courant must be in (0, 0.5] (up to 8 in a study past the bound)");
   mu_ = tan_deg(bed_deg);
+  if (!(params.floor_friction_deg >= 0.0 && params.floor_friction_deg < 89.0))
+    throw std::invalid_argument("momentum flow: floor_friction_deg must be in [0, 89)");
+  floor_mu_ = params.floor_friction_deg > 0.0 ? tan_deg(params.floor_friction_deg) : mu_;
   if (params.side_wall_gap_m > 0.0) {
     if (!(params.side_wall_friction_deg >= 0.0 && params.side_wall_friction_deg < 89.0))
       throw std::invalid_argument("momentum flow: side_wall_friction_deg must be in [0, 89)");
@@ -243,9 +246,10 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose
-  // angle: the infinite-slope limit of soil at rest, docs/terrain_model.md);
-  // everything above it fails at once and joins the flowing layer, the core
-  // stays. A column so keeps its top while a < tan(repose) (Lajeunesse et
+  // angle: the infinite-slope limit of soil at rest, docs/terrain_model.md),
+  // or the bed friction up to a cell where a layer moves (erosion of the
+  // metastable bed, Daerr and Douady 1999); everything above it fails at
+  // once and joins the flowing layer, the core stays. A column so keeps its top while a < tan(repose) (Lajeunesse et
   // al. 2004 and Lube et al. 2004 measured 0.7-0.74) and a peak fails
   // towards every lower side. The core is a chamfer distance transform
   // (8 neighbours) over the examined cells, the others standing at their
@@ -253,9 +257,9 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   order_.assign(candidates_.begin(), candidates_.end());
   std::sort(order_.begin(), order_.end());
   for (int c : order_) core_[c] = grid.surface_at(c);
-  const double rise = d_ * mu_start_, rise_diag = rise * std::sqrt(2.0);
   auto relax = [&](int c) {
     const int i = c % nx_, j = c / nx_;
+    const double rise = d_ * (erosion_ && flowing_[c] > 0 ? mu_ : mu_start_), rise_diag = rise * std::sqrt(2.0);
     double core = core_[c];
     const auto lower = [&](int nb, double rise_to_it) {
       core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + rise_to_it);
@@ -371,7 +375,10 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double acc = -kGravity_m_s2 * ((hb - ha) + (k_earth - 1.0) * (fb - fa)) / d_;
     double un = u + acc * dt_s;
     const double f = flowing_[donor] * kHeightQuantumM;
-    const double speed = std::hypot(un, cross), loss = (mu_ + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
+    // A layer with no static soil under it rubs on the hard base.
+    const bool on_floor = grid.loose_quanta(donor) - flowing_[donor] - rain_[donor] <= 0 && grid.compacted_m(donor) == 0.0;
+    const double mu = on_floor ? floor_mu_ : mu_;
+    const double speed = std::hypot(un, cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };
   new_x_.resize(x_faces_.size());

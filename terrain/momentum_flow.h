@@ -10,9 +10,9 @@
 //   du/dt + (u . grad) u = -g (grad H + (K - 1) grad f) - mu g u / |u|
 // with H the surface, K the earth-pressure coefficient (1, hydrostatic, by
 // default; Savage-Hutter's (2.23) active and passive values selectable) and
-// Coulomb friction mu on the bed: the soil's stop angle, the mu_s of the
-// mu(I) law (Pouliquen 1999, Jop et al. 2006: the angle at which a thick
-// flow stops). Advection is Stelling and Duinmeijer's (2003) momentum-
+// Coulomb friction mu on the bed: the soil's flowing friction, the mu_s of
+// the mu(I) law (Pouliquen 1999, Jop et al. 2006: the angle at which a
+// thick flow stops; terrain/flow_law.h), or on a bare hard base the floor's. Advection is Stelling and Duinmeijer's (2003) momentum-
 // conserving upwind form: a face's velocity mixes with what arrives at its
 // donor cell.
 //
@@ -20,6 +20,14 @@
 // under the terrain whose slope nowhere exceeds the repose angle; all
 // material above it fails at once. A column keeps its top while a <
 // tan(repose) (0.69 for 34.6 deg; Lajeunesse et al. 2004 measured 0.74).
+// Erosion: under a moving layer the core's slope is held to the bed
+// friction instead: soil at rest between the stop and start angles is
+// metastable, and an avalanche passing over it carries it away down to the
+// stop angle (Daerr and Douady 1999, "Two types of avalanche behaviour in
+// granular media", Nature 399). This is the fast limit of BCRE's exchange
+// between rolling and static grains (Bouchaud et al. 1994), whose rate, the
+// flow's speed over a grain, is 10^2-10^4 per second: fast beside a
+// collapse's or a dump's second.
 // Raining (Larrieu, Staron and Hinch 2006, "Raining into shallow water as a
 // description of the collapse of a column of grains", J. Fluid Mech. 554):
 // failed material falls freely in its cell and lands on the flowing layer
@@ -48,8 +56,14 @@
 namespace skidsim::terrain {
 
 struct MomentumFlowParameters {
-  // Coulomb friction of a moving layer on its bed (deg); 0: the soil's stop angle.
+  // Coulomb friction of a moving layer on its bed (deg); 0: the soil's
+  // flowing friction (SoilFlowParameters::flowing_friction_deg).
   double bed_friction_deg = 0.0;
+  // Coulomb friction of a layer flowing on the bare hard base, with no
+  // static soil under it (deg); 0: the bed friction. A laboratory floor
+  // (the DEM columns' rough plane) lets a layer slide on it more easily than
+  // on its own grains (dem/calibration/chute.in, measured on both).
+  double floor_friction_deg = 0.0;
   // The steepest slope of the stable core (deg): material above it fails; 0: the soil's repose angle.
   double start_friction_deg = 0.0;
   // Earth-pressure coefficient K: 1, hydrostatic (Mangeney-Castelnau et al.
@@ -70,6 +84,10 @@ struct MomentumFlowParameters {
   // surface flows", J. Fluid Mech. 541).
   double side_wall_gap_m = 0.0;
   double side_wall_friction_deg = 0.0;
+  // A moving layer erodes the bed beneath it down to the bed friction
+  // (Daerr and Douady 1999); false: the core holds the repose angle under
+  // moving layers too.
+  bool erosion = true;
   // Failed material falls freely and lands without horizontal momentum
   // (Larrieu et al. 2006); false: it joins the flowing layer at once.
   bool raining = true;
@@ -113,6 +131,7 @@ class MomentumFlow {
   int last_substeps() const { return last_substeps_; }
   long substeps_run() const { return substeps_run_; }  // since construction
   double bed_friction_tan() const { return mu_; }
+  double floor_friction_tan() const { return floor_mu_; }
   double start_friction_tan() const { return mu_start_; }
   double earth_pressure_active() const { return k_active_; }
   double earth_pressure_passive() const { return k_passive_; }
@@ -147,10 +166,10 @@ class MomentumFlow {
 
   int nx_ = 0, ny_ = 0;
   double step_dt_s_ = 0.0, d_ = 0.0;
-  double mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
+  double mu_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0;
-  bool raining_ = true;
+  bool raining_ = true, erosion_ = true;
   std::vector<double> ux_face_, uy_face_;   // m/s on the faces
   std::vector<std::int64_t> flowing_;       // per cell: quanta of its flowing layer (<= its material)
   std::vector<std::uint8_t> listed_, x_listed_, y_listed_;

@@ -22,6 +22,7 @@
 
 #include "io/soil_table.h"
 #include "report/dem_wheels.h"
+#include "report/perf_report_parts.h"
 
 namespace skidsim::report::perf {
 namespace {
@@ -30,38 +31,26 @@ namespace fs = std::filesystem;
 
 fs::path dem_dir() { return fs::path(io::default_assets_dir()).parent_path() / "dem"; }
 
-// quantity,value,... rows of a results CSV by their first column.
-std::map<std::string, double> quantities(const fs::path& path, std::size_t value_column = 1) {
-  std::ifstream in(path);
-  EXPECT_TRUE(in.good()) << path;
-  std::map<std::string, double> out;
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (cells.size() > value_column) out[cells[0]] = std::stod(cells[value_column]);
-  }
-  return out;
-}
 
 // The soil table's dem_sand holds what the DEM's calibration tests measured
 // (one fact, two places: the table is what skidsim reads, the CSVs what the
 // DEM wrote), to the table's rounding.
 TEST(DemSand, TableHoldsTheCalibratedParameters) {
   const terrain::SoilMechanics soil = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").terramechanics;
-  const auto bekker = quantities(dem_dir() / "wheel" / "results" / "bekker.csv");
+  const auto bekker = read_csv_quantities(dem_dir() / "wheel" / "results" / "bekker.csv");
   EXPECT_NEAR(soil.n, bekker.at("n"), 0.001);
   EXPECT_NEAR(soil.k_c_kN_per_m_n1, bekker.at("k_c"), 0.001 * std::abs(bekker.at("k_c")));
   EXPECT_NEAR(soil.k_phi_kN_per_m_n2, bekker.at("k_phi"), 0.001 * bekker.at("k_phi"));
   EXPECT_NEAR(soil.unload_k0_kPa_per_m, bekker.at("unload_k0"), 0.001 * bekker.at("unload_k0"));
   EXPECT_NEAR(soil.unload_Au_kPa_per_m2, bekker.at("unload_Au"), 0.001 * bekker.at("unload_Au"));
-  const auto janosi = quantities(dem_dir() / "calibration" / "results" / "janosi.csv");
+  const auto janosi = read_csv_quantities(dem_dir() / "calibration" / "results" / "janosi.csv");
   EXPECT_NEAR(soil.shear_modulus_K_m, janosi.at("all"), 1e-5);
-  const auto material = quantities(dem_dir() / "calibration" / "material.csv");
+  const auto material = read_csv_quantities(dem_dir() / "calibration" / "material.csv");
   EXPECT_NEAR(soil.friction_angle_deg, material.at("friction_angle_c0_deg"), 0.05);
   EXPECT_NEAR(soil.tool_friction_angle_deg, material.at("tool_friction_angle_deg"), 0.05);
+  const terrain::SoilFlowParameters flow = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  EXPECT_NEAR(flow.repose_angle_deg, material.at("repose_angle_deg"), 0.05);
+  EXPECT_NEAR(flow.flowing_friction_angle_deg, material.at("flowing_friction_angle_deg"), 0.05);
   EXPECT_EQ(soil.cohesion_kPa, 0.0);  // the DEM material has no cohesion model
 }
 

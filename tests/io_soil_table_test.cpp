@@ -34,6 +34,10 @@ TEST(SoilTable, ShippedTableLoadsAndIsValid) {
   for (const char* clay : {"clayey_soil_38", "heavy_clay_25"})
     EXPECT_EQ(table.at(clay).terramechanics.cutting, terrain::CuttingModel::kEarthmoving) << clay;
   EXPECT_DOUBLE_EQ(table.at("dem_sand").terramechanics.cohesion_kPa, 0.0);
+  // A flowing layer's friction: calibrated for the DEM's material, the
+  // stop angle where a soil has none of its own.
+  EXPECT_DOUBLE_EQ(table.at("dem_sand").flow.flowing_friction_deg(), 23.74);
+  EXPECT_DOUBLE_EQ(sand.flow.flowing_friction_deg(), sand.flow.stop_angle_deg);
 }
 
 std::string write_temp(const std::string& name, const std::string& text) {
@@ -72,6 +76,9 @@ TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
   flow = kFlow;
   flow.replace(flow.find("\"30\""), 4, "\"40\"");  // stop angle above repose
   expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "stop_angle_deg"});
+  flow = kFlow;  // a flowing layer's friction above the repose angle
+  flow.insert(flow.find("/>"), " flowing_friction_angle_deg=\"36\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "flowing_friction_angle_deg"});
   expect_error("<soils>\n<soil id=\"a\" colour=\"red\">\n" + std::string(kFlow) + kTm + "</soil>\n</soils>\n",
                {":2:", "unknown attribute 'colour'"});
   expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + kTm + "</soil>\n<soil id=\"a\">\n" + kFlow + kTm +

@@ -3,8 +3,14 @@
 
 Usage: material_csv.py CALIBRATION_RESULTS_DIR OUT.csv
 Reads repose.csv, shear_box.csv (Mohr-Coulomb comment lines), sliding_plate.csv
-(mean line) and bed.csv from the results folder.
+(mean line), chute_summary.csv and bed.csv from the results folder.
+
+From the inclined layers (chute_summary.csv): a flowing layer's friction on
+the grains (the thickest layer run: the limit a thick flow reaches, what a
+metre-scale model holds), on the collapsing columns' floor (likewise), and
+the slot's side walls on a flowing layer (the mean over the walled runs).
 """
+import math
 import os
 import re
 import sys
@@ -29,6 +35,19 @@ def main():
     p0 = re.search(r"through the origin \(c = 0\): phi_deg=([-\d.]+)", shear)
     slide = open(os.path.join(d, "sliding_plate.csv")).read()
     dl = re.search(r"delta_deg=([-\d.]+)", slide)
+    chute = [l.strip().split(",") for l in open(os.path.join(d, "chute_summary.csv"))]
+    cols = chute[0]
+    chute = [dict(zip(cols, r)) for r in chute[1:] if r and r[0]]
+
+    def thickest(base):
+        runs = [r for r in chute if r["base_type"] == base and float(r["side_wall_gap_m"]) == 0.0]
+        r = max(runs, key=lambda r: int(r["layers"]))
+        return float(r["stop_angle_deg"]), int(r["layers"])
+
+    grains_deg, grains_n = thickest("1")
+    floor_deg, floor_n = thickest("3")
+    walls = [float(r["wall_mu"]) for r in chute if float(r["side_wall_gap_m"]) > 0.0]
+    wall_deg = math.degrees(math.atan(sum(walls) / len(walls)))
     rows = [
         ("repose_angle_deg", float(rep["repose_angle_deg"]), "deg", "calibration/pile.in"),
         ("friction_angle_deg", float(pk.group(1)), "deg", "calibration/shear_box.in (peak, 2-10 kPa)"),
@@ -37,6 +56,12 @@ def main():
         ("residual_friction_angle_deg", float(rs.group(1)), "deg", "calibration/shear_box.in (end: last 25 % of 18 mm)"),
         ("residual_cohesion_kPa", float(rs.group(2)) / 1000, "kPa", "calibration/shear_box.in (residual intercept)"),
         ("tool_friction_angle_deg", float(dl.group(1)), "deg", "calibration/sliding_plate.in"),
+        ("flowing_friction_angle_deg", grains_deg, "deg",
+         "calibration/chute.in (stop angle; on frozen grains, %d grains thick)" % grains_n),
+        ("floor_flowing_friction_angle_deg", floor_deg, "deg",
+         "calibration/chute.in (stop angle; on the columns' type-3 floor, %d grains thick)" % floor_n),
+        ("slot_wall_flowing_friction_angle_deg", wall_deg, "deg",
+         "calibration/chute.in (steel side walls 0.08 m apart, %d runs)" % len(walls)),
         ("bulk_density_kg_m3", float(bed["bulk_density_kg_m3"]), "kg/m3", "blade/bed.in (core of the settled bed)"),
         ("particle_diameter_m", 0.008, "m", "material.in (3 classes 7.2/8.0/8.8 mm, equal mass)"),
         ("particle_density_kg_m3", 2650.0, "kg/m3", "material.in"),
