@@ -22,6 +22,7 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir) {
   };
   const double floor_deg = quantity("floor_flowing_friction_angle_deg");
   const double wall_deg = quantity("slot_wall_flowing_friction_angle_deg");
+  const double grain_m = quantity("particle_diameter_m");
   const fs::path summary = dir / "summary.csv";
   const CsvNumbers csv = read_csv_numbers(summary);
   std::vector<DemColumn> out;
@@ -29,6 +30,7 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir) {
     DemColumn c;
     c.floor_friction_deg = floor_deg;
     c.slot_wall_friction_deg = wall_deg;
+    c.grain_diameter_over_r0 = grain_m / row[csv.column("r0_m", summary)];
     c.slot = row[csv.column("slot", summary)] != 0.0;
     c.aspect = row[csv.column("aspect_ratio", summary)];
     c.drop_over_r0 = row[csv.column("drop_m", summary)] / row[csv.column("r0_m", summary)];
@@ -61,6 +63,7 @@ terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool 
   c.momentum = momentum;
   c.momentum_params.raining = raining;
   c.momentum_params.floor_friction_deg = dem.floor_friction_deg;
+  c.momentum_params.grain_diameter_m = dem.grain_diameter_over_r0 * c.r0_m;
   c.drop_over_r0 = dem.drop_over_r0;
   c.slot_wall_friction_deg = dem.slot_wall_friction_deg;
   return c;

@@ -27,6 +27,9 @@ struct DemColumn {
   // never from the columns: the floor's stop angle (deg) and the walls'
   // friction angle (deg).
   double floor_friction_deg = 0.0, slot_wall_friction_deg = 0.0;
+  // The grains' diameter over r0 (0.008 m / 0.1 m): a thin layer's friction
+  // depends on its thickness in grains, which the grid's column keeps.
+  double grain_diameter_over_r0 = 0.0;
   // A column let go this far (over r0) above the floor (0: standing on it).
   double drop_over_r0 = 0.0;
   double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;

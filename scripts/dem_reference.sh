@@ -109,10 +109,13 @@ stage_slide() {
 }
 
 # Inclined layers (dem/calibration/chute.in): a flowing layer's friction as it slows to rest, on
-# the grains themselves (three thicknesses, towards the thick flow's limit), on the collapsing
+# the grains themselves (five thicknesses: thin layers stop on steeper slopes, and the thick
+# flow's limit), on the collapsing
 # columns' floor (three) and between the slot's steel side walls (two, on that floor). Each run:
 # "NAME BASE LAYERS WALL_GAP_M KICK_DEG ANGLES...".
 CHUTE_RUNS=(
+  "grains_n4 1 4 0 50 44 42 40 38 36 34 32 30"
+  "grains_n8 1 8 0 42 34 32 30 28 26 24 22"
   "grains_n16 1 16 0 38 32 30 28 26 24 22 20 18"
   "grains_n32 1 32 0 38 32 30 28 26 24 22 20 18"
   "grains_n64 1 64 0 38 26 24 22 20 18"

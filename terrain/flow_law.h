@@ -49,6 +49,16 @@ struct SoilFlowParameters {
   // flowing layer, dilated, slides on to a gentler angle.
   double flowing_friction_angle_deg = 0.0;
   double flowing_friction_deg() const { return flowing_friction_angle_deg > 0.0 ? flowing_friction_angle_deg : stop_angle_deg; }
+  // Thin layers stop on steeper slopes (Pouliquen 1999, "Scaling laws in
+  // granular flows down rough inclined planes", Phys. Fluids 11):
+  //   tan theta_stop(h) = tan theta_1 + (tan theta_2 - tan theta_1) exp(-h / (A d))
+  // with theta_1 the flowing friction above, theta_2 the thin-layer limit,
+  // A the decay in grains and d the grain diameter. A grain diameter of 0
+  // leaves the friction independent of the thickness (a sand's 0.3 mm grains
+  // make it so for any layer a fast flow carries).
+  double grain_diameter_m = 0.0;
+  double thin_layer_friction_angle_deg = 0.0;
+  double thin_layer_decay_grains = 0.0;
 };
 
 // Throws std::invalid_argument naming the offending field when a value is out

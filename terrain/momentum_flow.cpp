@@ -55,6 +55,12 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   if (!(params.floor_friction_deg >= 0.0 && params.floor_friction_deg < 89.0))
     throw std::invalid_argument("momentum flow: floor_friction_deg must be in [0, 89)");
   floor_mu_ = params.floor_friction_deg > 0.0 ? tan_deg(params.floor_friction_deg) : mu_;
+  if (!(params.grain_diameter_m >= 0.0)) throw std::invalid_argument("momentum flow: grain_diameter_m must be >= 0");
+  const double grain_m = params.grain_diameter_m > 0.0 ? params.grain_diameter_m : soil.grain_diameter_m;
+  if (grain_m > 0.0 && soil.thin_layer_decay_grains > 0.0) {
+    thin_excess_ = std::max(0.0, tan_deg(soil.thin_layer_friction_angle_deg) - mu_);
+    inv_decay_m_ = 1.0 / (soil.thin_layer_decay_grains * grain_m);
+  }
   if (params.side_wall_gap_m > 0.0) {
     if (!(params.side_wall_friction_deg >= 0.0 && params.side_wall_friction_deg < 89.0))
       throw std::invalid_argument("momentum flow: side_wall_friction_deg must be in [0, 89)");
@@ -243,6 +249,19 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
   candidates_.clear(), x_faces_.clear(), y_faces_.clear();
 }
 
+bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
+  // A face moving into the cell from a neighbour's flowing layer.
+  const std::array<int, 4> f = faces_of(cell);
+  const int i = cell % nx_, j = cell / nx_;
+  const double into[4] = {-ux_face_[f[0]], ux_face_[f[1]], -uy_face_[f[2]], uy_face_[f[3]]};
+  for (int k = 0; k < 4; ++k) {
+    if (!(into[k] > 0.0)) continue;
+    const int nb = neighbour(grid, i, j, k);
+    if (nb >= 0 && flowing_[nb] > 0) return true;
+  }
+  return false;
+}
+
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose
@@ -259,7 +278,8 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   for (int c : order_) core_[c] = grid.surface_at(c);
   auto relax = [&](int c) {
     const int i = c % nx_, j = c / nx_;
-    const double rise = d_ * (erosion_ && flowing_[c] > 0 ? mu_ : mu_start_), rise_diag = rise * std::sqrt(2.0);
+    const double rise = d_ * (erosion_ && flowing_[c] > 0 ? std::min(mu_start_, bed_friction_tan(flowing_[c] * kHeightQuantumM)) : mu_start_);
+    const double rise_diag = rise * std::sqrt(2.0);
     double core = core_[c];
     const auto lower = [&](int nb, double rise_to_it) {
       core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + rise_to_it);
@@ -341,8 +361,10 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     }
     // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
     // min_flow_layer_m, the automaton's transport layer): it lies down, and
-    // the automaton's slow regime has it.
-    if (rain_[c] == 0 && flowing * kHeightQuantumM < min_layer_m_) flowing = 0;
+    // the automaton's slow regime has it; unless material is still flowing
+    // into it (the thin edge of an advancing front, pushed on by the layer
+    // behind: laid down each sub-step, it built a ramp the flow had to climb).
+    if (rain_[c] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !fed(grid, c)) flowing = 0;
     flowing_[c] = flowing;
   }
 }
@@ -377,7 +399,7 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double f = flowing_[donor] * kHeightQuantumM;
     // A layer with no static soil under it rubs on the hard base.
     const bool on_floor = grid.loose_quanta(donor) - flowing_[donor] - rain_[donor] <= 0 && grid.compacted_m(donor) == 0.0;
-    const double mu = on_floor ? floor_mu_ : mu_;
+    const double mu = on_floor ? floor_mu_ : bed_friction_tan(f);
     const double speed = std::hypot(un, cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };
@@ -429,8 +451,10 @@ void MomentumFlow::carry_momentum(const GranularGrid& grid) {
   // momentum-conserving upwind form): a face's velocity is that of its
   // donor's flowing layer, which is what stayed there at the face's velocity
   // mixed with what arrived across the donor's upstream face at that face's.
-  // A front face (a bare cell ahead) so takes the speed of the material
-  // behind it.
+  // A face standing still takes the velocity of what arrived at either of
+  // its cells moving towards it (a front advancing into a bare cell), so the
+  // material that advances keeps its momentum; material arriving from both
+  // sides at once leaves it standing.
   auto mixed = [&](double u, int donor, int upstream_face, const std::vector<double>& vel,
                    const std::vector<std::int64_t>& sent, bool plus) {
     if (donor < 0 || flowing_[donor] <= 0) return u;
@@ -445,15 +469,21 @@ void MomentumFlow::carry_momentum(const GranularGrid& grid) {
     const int f = x_faces_[n], i = f % (nx_ + 1), j = f / (nx_ + 1);
     const double u = ux_face_[f];
     new_x_[n] = u;
-    if (u > 0.0 && i - 1 >= 0) new_x_[n] = mixed(u, grid.index(i - 1, j), x_face(i - 1, j), ux_face_, x_sent_, true);
-    if (u < 0.0 && i < nx_) new_x_[n] = mixed(u, grid.index(i, j), x_face(i + 1, j), ux_face_, x_sent_, false);
+    const bool from_minus = i - 1 >= 0 && x_sent_[x_face(i - 1, j)] > 0, from_plus = i < nx_ && x_sent_[x_face(i + 1, j)] < 0;
+    if ((u > 0.0 || (u == 0.0 && from_minus && !from_plus)) && i - 1 >= 0)
+      new_x_[n] = mixed(u, grid.index(i - 1, j), x_face(i - 1, j), ux_face_, x_sent_, true);
+    if ((u < 0.0 || (u == 0.0 && from_plus && !from_minus)) && i < nx_)
+      new_x_[n] = mixed(u, grid.index(i, j), x_face(i + 1, j), ux_face_, x_sent_, false);
   }
   for (std::size_t n = 0; n < y_faces_.size(); ++n) {
     const int f = y_faces_[n], i = f % nx_, j = f / nx_;
     const double u = uy_face_[f];
     new_y_[n] = u;
-    if (u > 0.0 && j - 1 >= 0) new_y_[n] = mixed(u, grid.index(i, j - 1), y_face(i, j - 1), uy_face_, y_sent_, true);
-    if (u < 0.0 && j < ny_) new_y_[n] = mixed(u, grid.index(i, j), y_face(i, j + 1), uy_face_, y_sent_, false);
+    const bool from_minus = j - 1 >= 0 && y_sent_[y_face(i, j - 1)] > 0, from_plus = j < ny_ && y_sent_[y_face(i, j + 1)] < 0;
+    if ((u > 0.0 || (u == 0.0 && from_minus && !from_plus)) && j - 1 >= 0)
+      new_y_[n] = mixed(u, grid.index(i, j - 1), y_face(i, j - 1), uy_face_, y_sent_, true);
+    if ((u < 0.0 || (u == 0.0 && from_plus && !from_minus)) && j < ny_)
+      new_y_[n] = mixed(u, grid.index(i, j), y_face(i, j + 1), uy_face_, y_sent_, false);
   }
   for (std::size_t n = 0; n < x_faces_.size(); ++n) ux_face_[x_faces_[n]] = new_x_[n];
   for (std::size_t n = 0; n < y_faces_.size(); ++n) uy_face_[y_faces_[n]] = new_y_[n];
@@ -467,7 +497,7 @@ void MomentumFlow::settle(const GranularGrid& grid) {
   for (int c : candidates_) {
     rain_[c] = std::min(rain_[c], grid.loose_quanta(c));
     flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
-    if (rain_[c] == 0 && flowing_[c] * kHeightQuantumM < min_layer_m_) flowing_[c] = 0;
+    if (rain_[c] == 0 && flowing_[c] * kHeightQuantumM < min_layer_m_ && !fed(grid, c)) flowing_[c] = 0;
   }
   // Cells that only received this sub-step are among the candidates (the
   // moving cells' neighbours), so every changed layer is seen above.

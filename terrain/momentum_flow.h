@@ -47,6 +47,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -59,6 +60,10 @@ struct MomentumFlowParameters {
   // Coulomb friction of a moving layer on its bed (deg); 0: the soil's
   // flowing friction (SoilFlowParameters::flowing_friction_deg).
   double bed_friction_deg = 0.0;
+  // The grain diameter of the soil's thin-layer friction (m; 0: the
+  // soil's, SoilFlowParameters). A dimensionless comparison scales it with
+  // the other lengths (experiments/column_collapse.h).
+  double grain_diameter_m = 0.0;
   // Coulomb friction of a layer flowing on the bare hard base, with no
   // static soil under it (deg); 0: the bed friction. A laboratory floor
   // (the DEM columns' rough plane) lets a layer slide on it more easily than
@@ -131,6 +136,8 @@ class MomentumFlow {
   int last_substeps() const { return last_substeps_; }
   long substeps_run() const { return substeps_run_; }  // since construction
   double bed_friction_tan() const { return mu_; }
+  // The bed friction of a layer h_m thick (the soil's thin-layer law).
+  double bed_friction_tan(double h_m) const { return thin_excess_ > 0.0 ? mu_ + thin_excess_ * std::exp(-h_m * inv_decay_m_) : mu_; }
   double floor_friction_tan() const { return floor_mu_; }
   double start_friction_tan() const { return mu_start_; }
   double earth_pressure_active() const { return k_active_; }
@@ -154,6 +161,8 @@ class MomentumFlow {
   std::pair<int, int> sides(const GranularGrid& grid, int face, bool x) const;
   void substep(GranularGrid& grid, double dt_s);
   void fail(const GranularGrid& grid, double dt_s);
+  // Whether a neighbour's flowing layer moves into the cell across a face.
+  bool fed(const GranularGrid& grid, int cell) const;
   void accelerate(const GranularGrid& grid, double dt_s);
   void transport(GranularGrid& grid, double dt_s);
   void carry_momentum(const GranularGrid& grid);
@@ -166,6 +175,7 @@ class MomentumFlow {
 
   int nx_ = 0, ny_ = 0;
   double step_dt_s_ = 0.0, d_ = 0.0;
+  double thin_excess_ = 0.0, inv_decay_m_ = 0.0;  // tan theta_2 - tan theta_1, 1 / (A d)
   double mu_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0;

@@ -51,6 +51,9 @@ TEST(DemSand, TableHoldsTheCalibratedParameters) {
   const terrain::SoilFlowParameters flow = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   EXPECT_NEAR(flow.repose_angle_deg, material.at("repose_angle_deg"), 0.05);
   EXPECT_NEAR(flow.flowing_friction_angle_deg, material.at("flowing_friction_angle_deg"), 0.05);
+  EXPECT_NEAR(flow.thin_layer_friction_angle_deg, material.at("thin_layer_friction_angle_deg"), 0.05);
+  EXPECT_NEAR(flow.thin_layer_decay_grains, material.at("thin_layer_decay_grains"), 0.005);
+  EXPECT_DOUBLE_EQ(flow.grain_diameter_m, material.at("particle_diameter_m"));
   EXPECT_EQ(soil.cohesion_kPa, 0.0);  // the DEM material has no cohesion model
 }
 

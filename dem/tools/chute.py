@@ -108,6 +108,24 @@ def main():
             f.write("%s,%d,%d,%g,%.4f,%.2f,%.4f,%d,%g,%g,%.4f\n"
                     % (r["run"], r["base"], r["layers"], r["gap_m"], r["mu_s"], math.degrees(math.atan(r["mu_s"])),
                        r["slope"], r["samples"], r["stopped"], r["flowed"], r["wall_mu"]))
+    # Thin layers stop on steeper slopes (Pouliquen 1999): on the grains,
+    # tan theta_stop(h) = tan theta_1 + (tan theta_2 - tan theta_1) exp(-h / (A d)), with theta_1 the
+    # thickest layer's; ln(mu_s - mu_1) is a line in h / d through the thinner layers.
+    grains = [r for r in summary if r["base"] == 1 and r["gap_m"] == 0]
+    thick = max(grains, key=lambda r: r["layers"])
+    thin = [(r["layers"], math.log(r["mu_s"] - thick["mu_s"])) for r in grains if r["mu_s"] - thick["mu_s"] > 0.01]
+    if len(thin) < 2:
+        sys.exit("chute.py: fewer than two layers on the grains stop above the thickest one's angle")
+    slope, intercept = line_fit(thin)
+    theta2 = math.degrees(math.atan(thick["mu_s"] + math.exp(intercept)))
+    with open(os.path.join(out_dir, "chute_thickness.csv"), "w") as f:
+        f.write("quantity,value,unit\n")
+        f.write("flowing_friction_angle_deg,%.2f,deg\n" % math.degrees(math.atan(thick["mu_s"])))
+        f.write("thin_layer_friction_angle_deg,%.2f,deg\n" % theta2)
+        f.write("thin_layer_decay_grains,%.3f,-\n" % (-1.0 / slope))
+        f.write("layers_fitted,%s,-\n" % " ".join(str(n) for n, _ in thin))
+    print("  thickness law: theta_1 %.2f deg (%d grains), theta_2 %.2f deg, A %.2f grains"
+          % (math.degrees(math.atan(thick["mu_s"])), thick["layers"], theta2, -1.0 / slope))
     for r in summary:
         print("  %s: mu_s %.3f (%.1f deg), stopped up to %g deg, flowed from %g deg%s"
               % (r["run"], r["mu_s"], math.degrees(math.atan(r["mu_s"])), r["stopped"], r["flowed"],

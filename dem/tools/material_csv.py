@@ -3,7 +3,7 @@
 
 Usage: material_csv.py CALIBRATION_RESULTS_DIR OUT.csv
 Reads repose.csv, shear_box.csv (Mohr-Coulomb comment lines), sliding_plate.csv
-(mean line), chute_summary.csv and bed.csv from the results folder.
+(mean line), chute_summary.csv, chute_thickness.csv and bed.csv from the results folder.
 
 From the inclined layers (chute_summary.csv): a flowing layer's friction on
 the grains (the thickest layer run: the limit a thick flow reaches, what a
@@ -47,6 +47,7 @@ def main():
     grains_deg, grains_n = thickest("1")
     floor_deg, floor_n = thickest("3")
     walls = [float(r["wall_mu"]) for r in chute if float(r["side_wall_gap_m"]) > 0.0]
+    law = kv(os.path.join(d, "chute_thickness.csv"))
     wall_deg = math.degrees(math.atan(sum(walls) / len(walls)))
     rows = [
         ("repose_angle_deg", float(rep["repose_angle_deg"]), "deg", "calibration/pile.in"),
@@ -58,6 +59,10 @@ def main():
         ("tool_friction_angle_deg", float(dl.group(1)), "deg", "calibration/sliding_plate.in"),
         ("flowing_friction_angle_deg", grains_deg, "deg",
          "calibration/chute.in (stop angle; on frozen grains, %d grains thick)" % grains_n),
+        ("thin_layer_friction_angle_deg", float(law["thin_layer_friction_angle_deg"]), "deg",
+         "calibration/chute.in (a layer's stop angle as it thins, Pouliquen 1999; layers %s)" % law["layers_fitted"]),
+        ("thin_layer_decay_grains", float(law["thin_layer_decay_grains"]), "-",
+         "calibration/chute.in (the thickness, in grains, over which it falls to the flowing friction)"),
         ("floor_flowing_friction_angle_deg", floor_deg, "deg",
          "calibration/chute.in (stop angle; on the columns' type-3 floor, %d grains thick)" % floor_n),
         ("slot_wall_flowing_friction_angle_deg", wall_deg, "deg",
