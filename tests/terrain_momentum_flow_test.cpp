@@ -137,17 +137,28 @@ TEST(MomentumFlow, RittersDamBreakAtTwoCellSizes) {
   }
 }
 
-// A dam 1 m high and 1 m long against a wall, released on the soil's bed
-// friction: the highest surface after release over a run, above the dam.
-double dam_break_rise_m(MomentumFlowParameters p, double step_s) {
+// A strip of nx cells 5 cm long, one wide.
+GridSpec strip(int nx) {
   GridSpec spec;
-  spec.nx = 80;
+  spec.nx = nx;
   spec.ny = 1;
   spec.cell_size_m = 0.05;
+  return spec;
+}
+
+// A sand with dem_sand's pile angles.
+SoilFlowParameters pile_angled_sand() {
   SoilFlowParameters soil;
   soil.repose_angle_deg = 34.6;
   soil.stop_angle_deg = 31.6;
-  GranularGrid g(spec, soil, step_s, 100000);
+  return soil;
+}
+
+// A dam 1 m high and 1 m long against a wall, released on the soil's bed
+// friction: the highest surface after release over a run, above the dam.
+double dam_break_rise_m(MomentumFlowParameters p, double step_s) {
+  const GridSpec spec = strip(80);
+  GranularGrid g(spec, pile_angled_sand(), step_s, 100000);
   for (int i = 0; i < 20; ++i) g.set_material_m(i, 0, 1.0);
   p.max_substeps = 1000;
   MomentumFlow flow(g, p, step_s);
@@ -192,10 +203,7 @@ TEST(MomentumFlow, ADamBreakStaysBelowItsDamWithinTheBoundAndRisesPastIt) {
 // least: a part at rest feels no friction). Where the base is bare it rubs
 // with the floor's friction, not the soil's.
 double slab_slide_m(const MomentumFlowParameters& p, double v0_m_s) {
-  GridSpec spec;
-  spec.nx = 240;
-  spec.ny = 1;
-  spec.cell_size_m = 0.05;
+  const GridSpec spec = strip(240);
   SoilFlowParameters soil;  // dry sand: flowing friction the stop angle, 30 deg
   GranularGrid g(spec, soil, 0.002, 100000);
   for (int i = 20; i < 40; ++i) g.set_material_m(i, 0, 0.05);
@@ -234,13 +242,8 @@ TEST(MomentumFlow, ASlabOnTheBareFloorSlidesAsACoulombBlockAtTheFloorsFriction) 
 // level, lies gentler); without erosion the bed keeps its 30 deg and the
 // layer runs over it.
 double ramp_slope_after_a_run_deg(bool erosion, double* carried_off_m3) {
-  GridSpec spec;
-  spec.nx = 60;
-  spec.ny = 1;
-  spec.cell_size_m = 0.05;
-  SoilFlowParameters soil;
-  soil.repose_angle_deg = 34.6;
-  soil.stop_angle_deg = 31.6;
+  const GridSpec spec = strip(60);
+  SoilFlowParameters soil = pile_angled_sand();
   soil.flowing_friction_angle_deg = 24.0;
   GranularGrid g(spec, soil, 0.002, 100000);
   const double tan30 = std::tan(30.0 * kPi / 180.0);
