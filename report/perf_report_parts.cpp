@@ -49,11 +49,18 @@ std::map<std::string, double> read_csv_quantities(const std::filesystem::path& p
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
     if (cells.size() <= value_column || cells[0].empty() || cells[0][0] == '#') continue;
+    const std::string& text = cells[value_column];
+    std::size_t used = 0;
+    double v = 0.0;
     try {
-      out[cells[0]] = std::stod(cells[value_column]);
+      v = std::stod(text, &used);
     } catch (const std::exception&) {
-      throw std::runtime_error("performance report: " + path.string() + ": " + cells[0] + " is not a number");
+      used = 0;
     }
+    if (used == 0 || used != text.size())
+      throw std::runtime_error("performance report: " + path.string() + ": " + cells[0] + " is not a number: '" + text + "'");
+    if (!out.emplace(cells[0], v).second)
+      throw std::runtime_error("performance report: " + path.string() + ": " + cells[0] + " twice");
   }
   return out;
 }

@@ -54,8 +54,9 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   mu_ = tan_deg(bed_deg);
   if (!(params.floor_friction_deg >= 0.0 && params.floor_friction_deg < 89.0))
     throw std::invalid_argument("momentum flow: floor_friction_deg must be in [0, 89)");
-  floor_mu_ = params.floor_friction_deg > 0.0 ? tan_deg(params.floor_friction_deg) : mu_;
-  if (!(params.grain_diameter_m >= 0.0)) throw std::invalid_argument("momentum flow: grain_diameter_m must be >= 0");
+  floor_mu_ = params.floor_friction_deg > 0.0 ? tan_deg(params.floor_friction_deg) : -1.0;  // < 0: the bed's
+  if (!(params.grain_diameter_m >= 0.0 && params.grain_diameter_m <= 10.0))
+    throw std::invalid_argument("momentum flow: grain_diameter_m must be in [0, 10]");
   const double grain_m = params.grain_diameter_m > 0.0 ? params.grain_diameter_m : soil.grain_diameter_m;
   if (grain_m > 0.0 && soil.thin_layer_decay_grains > 0.0) {
     thin_excess_ = std::max(0.0, tan_deg(soil.thin_layer_friction_angle_deg) - mu_);
@@ -110,6 +111,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_.assign(n, 0);
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
+  fed_.assign(n, 0);
   min_layer_m_ = soil.min_flow_layer_m;
 }
 
@@ -262,6 +264,10 @@ bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
   return false;
 }
 
+void MomentumFlow::mark_fed(const GranularGrid& grid) {
+  for (int c : candidates_) fed_[c] = fed(grid, c) ? 1 : 0;
+}
+
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose
@@ -321,6 +327,7 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     for (auto it = order_.rbegin(); it != order_.rend(); ++it) changed = relax(*it) || changed;
     if (!changed) break;
   }
+  mark_fed(grid);
   for (int c : order_) {
     const std::int64_t q = grid.loose_quanta(c);
     // Less than h_stop above the core does not fail (it could not flow).
@@ -364,7 +371,7 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     // the automaton's slow regime has it; unless material is still flowing
     // into it (the thin edge of an advancing front, pushed on by the layer
     // behind: laid down each sub-step, it built a ramp the flow had to climb).
-    if (rain_[c] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !fed(grid, c)) flowing = 0;
+    if (rain_[c] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !fed_[c]) flowing = 0;
     flowing_[c] = flowing;
   }
 }
@@ -399,7 +406,7 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double f = flowing_[donor] * kHeightQuantumM;
     // A layer with no static soil under it rubs on the hard base.
     const bool on_floor = grid.loose_quanta(donor) - flowing_[donor] - rain_[donor] <= 0 && grid.compacted_m(donor) == 0.0;
-    const double mu = on_floor ? floor_mu_ : bed_friction_tan(f);
+    const double mu = on_floor && floor_mu_ >= 0.0 ? floor_mu_ : bed_friction_tan(f);
     const double speed = std::hypot(un, cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };
@@ -469,7 +476,10 @@ void MomentumFlow::carry_momentum(const GranularGrid& grid) {
     const int f = x_faces_[n], i = f % (nx_ + 1), j = f / (nx_ + 1);
     const double u = ux_face_[f];
     new_x_[n] = u;
-    const bool from_minus = i - 1 >= 0 && x_sent_[x_face(i - 1, j)] > 0, from_plus = i < nx_ && x_sent_[x_face(i + 1, j)] < 0;
+    // (a standing face into a wall or a covered cell stays standing)
+    const auto [a, b] = sides(grid, f, true);
+    const bool from_minus = b != -2 && i - 1 >= 0 && x_sent_[x_face(i - 1, j)] > 0;
+    const bool from_plus = a != -2 && i < nx_ && x_sent_[x_face(i + 1, j)] < 0;
     if ((u > 0.0 || (u == 0.0 && from_minus && !from_plus)) && i - 1 >= 0)
       new_x_[n] = mixed(u, grid.index(i - 1, j), x_face(i - 1, j), ux_face_, x_sent_, true);
     if ((u < 0.0 || (u == 0.0 && from_plus && !from_minus)) && i < nx_)
@@ -479,7 +489,9 @@ void MomentumFlow::carry_momentum(const GranularGrid& grid) {
     const int f = y_faces_[n], i = f % nx_, j = f / nx_;
     const double u = uy_face_[f];
     new_y_[n] = u;
-    const bool from_minus = j - 1 >= 0 && y_sent_[y_face(i, j - 1)] > 0, from_plus = j < ny_ && y_sent_[y_face(i, j + 1)] < 0;
+    const auto [a, b] = sides(grid, f, false);
+    const bool from_minus = b != -2 && j - 1 >= 0 && y_sent_[y_face(i, j - 1)] > 0;
+    const bool from_plus = a != -2 && j < ny_ && y_sent_[y_face(i, j + 1)] < 0;
     if ((u > 0.0 || (u == 0.0 && from_minus && !from_plus)) && j - 1 >= 0)
       new_y_[n] = mixed(u, grid.index(i, j - 1), y_face(i, j - 1), uy_face_, y_sent_, true);
     if ((u < 0.0 || (u == 0.0 && from_plus && !from_minus)) && j < ny_)
@@ -494,10 +506,11 @@ void MomentumFlow::settle(const GranularGrid& grid) {
   // moves. A layer that has stopped, or thinned below h_stop, lies down as
   // static soil, and the faces it fed stand still.
   moving_.clear();
+  mark_fed(grid);
   for (int c : candidates_) {
     rain_[c] = std::min(rain_[c], grid.loose_quanta(c));
     flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
-    if (rain_[c] == 0 && flowing_[c] * kHeightQuantumM < min_layer_m_ && !fed(grid, c)) flowing_[c] = 0;
+    if (rain_[c] == 0 && flowing_[c] * kHeightQuantumM < min_layer_m_ && !fed_[c]) flowing_[c] = 0;
   }
   // Cells that only received this sub-step are among the candidates (the
   // moving cells' neighbours), so every changed layer is seen above.

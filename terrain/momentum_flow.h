@@ -138,15 +138,15 @@ class MomentumFlow {
   double bed_friction_tan() const { return mu_; }
   // The bed friction of a layer h_m thick (the soil's thin-layer law).
   double bed_friction_tan(double h_m) const { return thin_excess_ > 0.0 ? mu_ + thin_excess_ * std::exp(-h_m * inv_decay_m_) : mu_; }
-  double floor_friction_tan() const { return floor_mu_; }
+  double floor_friction_tan() const { return floor_mu_ >= 0.0 ? floor_mu_ : mu_; }
   double start_friction_tan() const { return mu_start_; }
   double earth_pressure_active() const { return k_active_; }
   double earth_pressure_passive() const { return k_passive_; }
   // Bytes of state per cell: two face velocities, the flowing and raining
   // layers, the rain's speed, the core, the quanta across two faces in a
-  // sub-step and four flags; the moving list comes on top.
+  // sub-step and five flags; the moving list comes on top.
   static constexpr std::size_t kStateBytesPerCell =
-      4 * sizeof(double) + 4 * sizeof(std::int64_t) + 4 * sizeof(std::uint8_t);
+      4 * sizeof(double) + 4 * sizeof(std::int64_t) + 5 * sizeof(std::uint8_t);
 
  private:
   // Faces: x-face (i, j) lies between cells (i - 1, j) and (i, j), i in
@@ -161,8 +161,10 @@ class MomentumFlow {
   std::pair<int, int> sides(const GranularGrid& grid, int face, bool x) const;
   void substep(GranularGrid& grid, double dt_s);
   void fail(const GranularGrid& grid, double dt_s);
-  // Whether a neighbour's flowing layer moves into the cell across a face.
+  // Whether a neighbour's flowing layer moves into the cell across a face;
+  // mark_fed notes it for every examined cell before a pass changes layers.
   bool fed(const GranularGrid& grid, int cell) const;
+  void mark_fed(const GranularGrid& grid);
   void accelerate(const GranularGrid& grid, double dt_s);
   void transport(GranularGrid& grid, double dt_s);
   void carry_momentum(const GranularGrid& grid);
@@ -190,6 +192,7 @@ class MomentumFlow {
   std::vector<std::int64_t> rain_;  // per cell: quanta falling freely onto its flowing layer
   std::vector<double> rain_speed_;  // their speed (m/s)
   std::vector<std::uint8_t> fell_;  // its rain has landed in this event
+  std::vector<std::uint8_t> fed_;   // a neighbour's layer flows into it (mark_fed)
   std::vector<double> core_;  // per cell: the stable core's surface (m), examined cells only
   std::vector<double> new_x_, new_y_;              // the listed faces' new velocities
   std::vector<std::int64_t> x_sent_, y_sent_;       // quanta across each face this sub-step (signed along +x, +y)
