@@ -274,8 +274,9 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // angle: the infinite-slope limit of soil at rest, docs/terrain_model.md),
   // or the bed friction up to a cell where a layer moves (erosion of the
   // metastable bed, Daerr and Douady 1999); everything above it fails at
-  // once and joins the flowing layer, the core stays. A column so keeps its top while a < tan(repose) (Lajeunesse et
-  // al. 2004 and Lube et al. 2004 measured 0.7-0.74) and a peak fails
+  // once and joins the flowing layer, the core stays. A column so keeps its
+  // top while a < tan(repose) (Lajeunesse et al. 2004 and Lube et al. 2004
+  // measured 0.7-0.74) and a peak fails
   // towards every lower side. The core is a chamfer distance transform
   // (8 neighbours) over the examined cells, the others standing at their
   // surface; passes in raster order and back until nothing changes.
@@ -371,7 +372,7 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     // the automaton's slow regime has it; unless material is still flowing
     // into it (the thin edge of an advancing front, pushed on by the layer
     // behind: laid down each sub-step, it built a ramp the flow had to climb).
-    if (rain_[c] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !fed_[c]) flowing = 0;
+    if (lies_down(c, flowing)) flowing = 0;
     flowing_[c] = flowing;
   }
 }
@@ -453,6 +454,18 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
   for (const auto& [c, dq] : new_flowing_) flowing_[c] += dq;
 }
 
+std::pair<bool, bool> MomentumFlow::standing_face_takes(const GranularGrid& grid, int face, bool x, std::int64_t sent_minus,
+                                                        std::int64_t sent_plus) const {
+  // What arrived at the face's minus-side cell across its own minus face
+  // (sent_minus > 0), or at the plus-side cell across its plus face
+  // (sent_plus < 0); not when the face's far side is a wall or a covered
+  // cell, nor when both arrive. An edge face's missing outer face sends 0
+  // (the caller passes the face itself, which stood still).
+  const auto [a, b] = sides(grid, face, x);
+  const bool from_minus = b != -2 && a >= 0 && sent_minus > 0, from_plus = a != -2 && b >= 0 && sent_plus < 0;
+  return {from_minus && !from_plus, from_plus && !from_minus};
+}
+
 void MomentumFlow::carry_momentum(const GranularGrid& grid) {
   // Momentum goes with the material (Stelling and Duinmeijer 2003's
   // momentum-conserving upwind form): a face's velocity is that of its
@@ -476,26 +489,21 @@ void MomentumFlow::carry_momentum(const GranularGrid& grid) {
     const int f = x_faces_[n], i = f % (nx_ + 1), j = f / (nx_ + 1);
     const double u = ux_face_[f];
     new_x_[n] = u;
-    // (a standing face into a wall or a covered cell stays standing)
-    const auto [a, b] = sides(grid, f, true);
-    const bool from_minus = b != -2 && i - 1 >= 0 && x_sent_[x_face(i - 1, j)] > 0;
-    const bool from_plus = a != -2 && i < nx_ && x_sent_[x_face(i + 1, j)] < 0;
-    if ((u > 0.0 || (u == 0.0 && from_minus && !from_plus)) && i - 1 >= 0)
-      new_x_[n] = mixed(u, grid.index(i - 1, j), x_face(i - 1, j), ux_face_, x_sent_, true);
-    if ((u < 0.0 || (u == 0.0 && from_plus && !from_minus)) && i < nx_)
-      new_x_[n] = mixed(u, grid.index(i, j), x_face(i + 1, j), ux_face_, x_sent_, false);
+    const auto [minus, plus] = u != 0.0 ? std::pair{u > 0.0, u < 0.0}
+                                        : standing_face_takes(grid, f, true, x_sent_[x_face(std::max(i - 1, 0), j)],
+                                                              x_sent_[x_face(std::min(i + 1, nx_), j)]);
+    if (minus && i - 1 >= 0) new_x_[n] = mixed(u, grid.index(i - 1, j), x_face(i - 1, j), ux_face_, x_sent_, true);
+    if (plus && i < nx_) new_x_[n] = mixed(u, grid.index(i, j), x_face(i + 1, j), ux_face_, x_sent_, false);
   }
   for (std::size_t n = 0; n < y_faces_.size(); ++n) {
     const int f = y_faces_[n], i = f % nx_, j = f / nx_;
     const double u = uy_face_[f];
     new_y_[n] = u;
-    const auto [a, b] = sides(grid, f, false);
-    const bool from_minus = b != -2 && j - 1 >= 0 && y_sent_[y_face(i, j - 1)] > 0;
-    const bool from_plus = a != -2 && j < ny_ && y_sent_[y_face(i, j + 1)] < 0;
-    if ((u > 0.0 || (u == 0.0 && from_minus && !from_plus)) && j - 1 >= 0)
-      new_y_[n] = mixed(u, grid.index(i, j - 1), y_face(i, j - 1), uy_face_, y_sent_, true);
-    if ((u < 0.0 || (u == 0.0 && from_plus && !from_minus)) && j < ny_)
-      new_y_[n] = mixed(u, grid.index(i, j), y_face(i, j + 1), uy_face_, y_sent_, false);
+    const auto [minus, plus] = u != 0.0 ? std::pair{u > 0.0, u < 0.0}
+                                        : standing_face_takes(grid, f, false, y_sent_[y_face(i, std::max(j - 1, 0))],
+                                                              y_sent_[y_face(i, std::min(j + 1, ny_))]);
+    if (minus && j - 1 >= 0) new_y_[n] = mixed(u, grid.index(i, j - 1), y_face(i, j - 1), uy_face_, y_sent_, true);
+    if (plus && j < ny_) new_y_[n] = mixed(u, grid.index(i, j), y_face(i, j + 1), uy_face_, y_sent_, false);
   }
   for (std::size_t n = 0; n < x_faces_.size(); ++n) ux_face_[x_faces_[n]] = new_x_[n];
   for (std::size_t n = 0; n < y_faces_.size(); ++n) uy_face_[y_faces_[n]] = new_y_[n];
@@ -510,7 +518,7 @@ void MomentumFlow::settle(const GranularGrid& grid) {
   for (int c : candidates_) {
     rain_[c] = std::min(rain_[c], grid.loose_quanta(c));
     flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
-    if (rain_[c] == 0 && flowing_[c] * kHeightQuantumM < min_layer_m_ && !fed_[c]) flowing_[c] = 0;
+    if (lies_down(c, flowing_[c])) flowing_[c] = 0;
   }
   // Cells that only received this sub-step are among the candidates (the
   // moving cells' neighbours), so every changed layer is seen above.

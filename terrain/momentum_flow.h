@@ -165,6 +165,14 @@ class MomentumFlow {
   // mark_fed notes it for every examined cell before a pass changes layers.
   bool fed(const GranularGrid& grid, int cell) const;
   void mark_fed(const GranularGrid& grid);
+  // A thin layer lies down (fail, settle) unless a neighbour feeds it.
+  bool lies_down(int cell, std::int64_t flowing) const {
+    return rain_[cell] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !fed_[cell];
+  }
+  // For a standing face: whether it takes the velocity of what arrived at
+  // its minus-side cell (first) or its plus-side cell (second).
+  std::pair<bool, bool> standing_face_takes(const GranularGrid& grid, int face, bool x, std::int64_t sent_minus,
+                                            std::int64_t sent_plus) const;
   void accelerate(const GranularGrid& grid, double dt_s);
   void transport(GranularGrid& grid, double dt_s);
   void carry_momentum(const GranularGrid& grid);
