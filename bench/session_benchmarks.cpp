@@ -1,7 +1,9 @@
 // Sessions (`skidsim bench --filter Session`): the real-time factor of the
 // pile-to-zone session played by its script, at 10, 5 and 2.5 cm cells,
 // with and without the state published over LCM (50 Hz, UDP multicast on
-// this host). Figures go in the README; nothing here asserts a time.
+// this host), and at 5 cm with the fast flows on (the site's fast_flow):
+// their cost is the ratio of the two 5 cm rows of one run. Figures go in the
+// README; nothing here asserts a time.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -37,9 +39,11 @@ struct PublishState : session::SessionOutput {
 void BM_SessionPileToZone(benchmark::State& state) {
   const double cell_m = static_cast<double>(state.range(0)) / 1000.0;
   const bool publish = state.range(1) != 0;
+  const bool fast_flow = state.range(2) != 0;
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
   io::Exercise ex = io::load_exercise(source("scenarios/pile_to_zone.xml"));
   ex.soils.front().cell_m = cell_m;
+  ex.soils.front().fast_flow = fast_flow;
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
   const io::OperatorScript script = io::load_operator_script(source("scenarios/pile_to_zone.operator.xml"));
   io::ControlInput input(0.2);
@@ -64,13 +68,15 @@ void BM_SessionPileToZone(benchmark::State& state) {
       }
   }
   state.counters["cell_mm"] = 1000.0 * cell_m;
+  state.counters["fast_flow"] = fast_flow ? 1.0 : 0.0;
   state.counters["sim_s_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_SessionPileToZone)
-    ->Args({100, 0})
-    ->Args({50, 0})
-    ->Args({50, 1})
-    ->Args({25, 0})
+    ->Args({100, 0, 0})
+    ->Args({50, 0, 0})
+    ->Args({50, 0, 1})
+    ->Args({50, 1, 0})
+    ->Args({25, 0, 0})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 

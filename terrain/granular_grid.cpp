@@ -178,9 +178,10 @@ std::size_t GranularGrid::scratch_bytes() const {
          dense_rows_.capacity() * sizeof(dense_rows_[0]) + row_q_.capacity() * sizeof(double);
 }
 
-void GranularGrid::wake(int cell) {
+void GranularGrid::wake_block(int cell) {
   // The 3 x 3 block: a cell's face slopes read its diagonal neighbours too.
   const std::uint8_t f = flags_[cell];
+  flags_[cell] = static_cast<std::uint8_t>(f | kBlockQueued);
   const int row_lo = (f & kOnEdgeBit[3]) ? 0 : -spec_.nx, row_hi = (f & kOnEdgeBit[2]) ? 0 : spec_.nx;
   const int col_lo = (f & kOnEdgeBit[1]) ? 0 : -1, col_hi = (f & kOnEdgeBit[0]) ? 0 : 1;
   for (int row = row_lo; row <= row_hi; row += spec_.nx) {
@@ -403,7 +404,7 @@ void GranularGrid::sweep() {
 void GranularGrid::sweep_sparse() {
   current_.swap(pending_);
   pending_.clear();
-  for (std::uint32_t c : current_) flags_[c] &= static_cast<std::uint8_t>(~kQueued);
+  for (std::uint32_t c : current_) flags_[c] &= static_cast<std::uint8_t>(~(kQueued | kBlockQueued));
   if (shuffle_seed_ != 0) {
     std::uint64_t state = shuffle_seed_ ^ (sweep_count_ * 0x2545F4914F6CDD1Dull);
     for (std::size_t k = current_.size(); k > 1; --k)
@@ -463,7 +464,7 @@ void GranularGrid::sweep_dense() {
   // The same sweep over every cell, row by row, with no lists. A cell outside
   // the active set is stable with an unchanged neighbourhood, so its flux is
   // exactly zero and the result is that of the sparse sweep.
-  for (std::uint32_t c : pending_) flags_[c] &= static_cast<std::uint8_t>(~kQueued);
+  for (std::uint32_t c : pending_) flags_[c] &= static_cast<std::uint8_t>(~(kQueued | kBlockQueued));
   pending_.clear();
   pending_all_ = false;
   const int nx = spec_.nx, ny = spec_.ny;

@@ -268,7 +268,12 @@ class GranularGrid {
  private:
   static constexpr std::uint8_t kFlowing = 1;  // I (4.5)
   static constexpr std::uint8_t kQueued = 2;   // in pending_
-  static constexpr std::uint8_t kChanged = 4;  // changed in this sweep
+  static constexpr std::uint8_t kChanged = 4;  // changed in this sweep (a sparse sweep's second phase)
+  // Between sweeps the same bit says that wake has queued the cell's whole
+  // 3 x 3 block, so that waking it again is one test (the fast flow wakes a
+  // cell at each of its transfers). The cell is in its own block, hence in
+  // pending_, and both bits are cleared where pending_ is taken.
+  static constexpr std::uint8_t kBlockQueued = kChanged;
   static constexpr std::uint8_t kCovered = 128;  // a body fills the cell
 
   // Outflow of one active cell towards its neighbours +x, -x, +y, -y.
@@ -278,7 +283,11 @@ class GranularGrid {
   };
 
   void check_cell(const char* what, int i, int j) const;
-  void wake(int cell);  // queue a cell's 3 x 3 neighbourhood for the next sweep
+  // Queue a cell's 3 x 3 neighbourhood for the next sweep (once a sweep).
+  void wake(int cell) {
+    if (!(flags_[cell] & kBlockQueued)) wake_block(cell);
+  }
+  void wake_block(int cell);
   void refresh_surface(int cell) {
     surface_m_[cell] = base_m_[cell] + quanta_[cell] * kHeightQuantumM;
     ++revision_;

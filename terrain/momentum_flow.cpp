@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -111,7 +112,6 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_.assign(n, 0);
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
-  fed_.assign(n, 0);
   min_layer_m_ = soil.min_flow_layer_m;
 }
 
@@ -121,17 +121,22 @@ std::array<int, 4> MomentumFlow::faces_of(int cell) const {
 }
 
 std::pair<int, int> MomentumFlow::sides(const GranularGrid& grid, int face, bool x) const {
+  return x ? sides_at(grid, face % (nx_ + 1), face / (nx_ + 1), true) : sides_at(grid, face % nx_, face / nx_, false);
+}
+
+std::pair<int, int> MomentumFlow::sides_at(const GranularGrid& grid, int i, int j, bool x) const {
+  const auto open = [&](int c) { return grid.covered(c) ? -2 : c; };
   if (x) {
-    const int i = face % (nx_ + 1), j = face / (nx_ + 1);
+    if (i > 0 && i < nx_) return {open(j * nx_ + i - 1), open(j * nx_ + i)};  // inside the grid
     return {cell_or_edge(grid, i - 1, j, kEdgeXMin), cell_or_edge(grid, i, j, kEdgeXMax)};
   }
-  const int i = face % nx_, j = face / nx_;
+  if (j > 0 && j < ny_) return {open((j - 1) * nx_ + i), open(j * nx_ + i)};
   return {cell_or_edge(grid, i, j - 1, kEdgeYMin), cell_or_edge(grid, i, j, kEdgeYMax)};
 }
 
 void MomentumFlow::reserve_cells(std::size_t cells) {
   cells = std::min(cells, flowing_.size());
-  candidates_.reserve(cells), moving_.reserve(cells), order_.reserve(cells);
+  candidates_.reserve(cells), moving_.reserve(cells), rise_.reserve(cells), layer_.reserve(cells);
   x_faces_.reserve(2 * cells), y_faces_.reserve(2 * cells), new_x_.reserve(2 * cells), new_y_.reserve(2 * cells);
   new_flowing_.reserve(8 * cells);
 }
@@ -235,6 +240,7 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
       if (nb >= 0) mark(nb);
     }
   }
+  raster_order_candidates();
   for (int c : candidates_) {
     const std::array<int, 4> f = faces_of(c);
     mark_face(f[1], true), mark_face(f[0], true);
@@ -251,6 +257,27 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
   candidates_.clear(), x_faces_.clear(), y_faces_.clear();
 }
 
+void MomentumFlow::raster_order_candidates() {
+  // The failure's passes run in raster order. The listed flags between the
+  // first and the last examined cell give that order in one scan, eight
+  // cells a word where none is listed (a sort costs n log n comparisons).
+  if (candidates_.size() < 2) return;
+  const auto [lo, hi] = std::minmax_element(candidates_.begin(), candidates_.end());
+  const std::size_t first = static_cast<std::size_t>(*lo), last = static_cast<std::size_t>(*hi);
+  candidates_.clear();
+  std::size_t c = first;
+  while (c <= last) {
+    std::uint64_t word = 0;
+    if (c + 8 <= last + 1) std::memcpy(&word, &listed_[c], sizeof word);
+    if (c + 8 <= last + 1 && word == 0) {
+      c += 8;
+      continue;
+    }
+    if (listed_[c]) candidates_.push_back(static_cast<int>(c));
+    ++c;
+  }
+}
+
 bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
   // A face moving into the cell from a neighbour's flowing layer.
   const std::array<int, 4> f = faces_of(cell);
@@ -259,14 +286,11 @@ bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
   for (int k = 0; k < 4; ++k) {
     if (!(into[k] > 0.0)) continue;
     const int nb = neighbour(grid, i, j, k);
-    if (nb >= 0 && flowing_[nb] > 0) return true;
+    if (nb >= 0 && flowing_[nb] * kHeightQuantumM >= min_layer_m_) return true;
   }
   return false;
 }
 
-void MomentumFlow::mark_fed(const GranularGrid& grid) {
-  for (int c : candidates_) fed_[c] = fed(grid, c) ? 1 : 0;
-}
 
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
@@ -279,57 +303,59 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // measured 0.7-0.74) and a peak fails
   // towards every lower side. The core is a chamfer distance transform
   // (8 neighbours) over the examined cells, the others standing at their
-  // surface; passes in raster order and back until nothing changes.
-  order_.assign(candidates_.begin(), candidates_.end());
-  std::sort(order_.begin(), order_.end());
-  for (int c : order_) core_[c] = grid.surface_at(c);
-  auto relax = [&](int c) {
-    const int i = c % nx_, j = c / nx_;
-    const double rise = d_ * (erosion_ && flowing_[c] > 0 ? std::min(mu_start_, bed_friction_tan(flowing_[c] * kHeightQuantumM)) : mu_start_);
-    const double rise_diag = rise * std::sqrt(2.0);
+  // surface: Rosenfeld and Pfaltz's two raster passes, forward over the
+  // neighbours before a cell and back over those after it, repeated until
+  // nothing changes (the walls and the erosion's varying rise can ask for
+  // more than one pair).
+  rise_.resize(candidates_.size());
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    core_[c] = grid.surface_at(c);
+    rise_[n] = d_ * (erosion_ && flowing_[c] > 0 ? std::min(mu_start_, bed_friction_tan(flowing_[c] * kHeightQuantumM)) : mu_start_);
+  }
+  // The neighbours before a cell in raster order as (di, dj); those after it are their opposites.
+  constexpr int kBefore[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+  auto relax = [&](std::size_t n, int sign) {
+    const int c = candidates_[n], i = c % nx_, j = c / nx_;
+    const double rise = rise_[n], rise_diag = rise * std::sqrt(2.0);
     double core = core_[c];
-    const auto lower = [&](int nb, double rise_to_it) {
-      core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + rise_to_it);
-    };
     if (i > 0 && j > 0 && i + 1 < nx_ && j + 1 < ny_) {
       // Inside the grid: the neighbours by offset.
-      const int offsets[8] = {-1, 1, -nx_, nx_, -nx_ - 1, -nx_ + 1, nx_ - 1, nx_ + 1};
-      for (int k = 0; k < 8; ++k)
-        if (!grid.covered(c + offsets[k])) lower(c + offsets[k], k < 4 ? rise : rise_diag);
+      for (const auto& o : kBefore) {
+        const int nb = c + sign * (o[0] + o[1] * nx_);
+        if (!grid.covered(nb)) core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + (o[0] != 0 && o[1] != 0 ? rise_diag : rise));
+      }
     } else {
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          if (di == 0 && dj == 0) continue;
-          const int ni = i + di, nj = j + dj;
-          const Edge edge = ni < 0 ? kEdgeXMin : ni >= nx_ ? kEdgeXMax : nj < 0 ? kEdgeYMin : kEdgeYMax;
-          const int nb = cell_or_edge(grid, ni, nj, edge);
-          const double rise_to_it = di != 0 && dj != 0 ? rise_diag : rise;
-          if (nb >= 0) lower(nb, rise_to_it);
-          else if (nb == -1) core = std::min(core, grid.base_at(c) + rise_to_it);  // a drop-off: bare base at the cell's own level
-        }
+      for (const auto& o : kBefore) {
+        const int di = sign * o[0], dj = sign * o[1], ni = i + di, nj = j + dj;
+        const Edge edge = ni < 0 ? kEdgeXMin : ni >= nx_ ? kEdgeXMax : nj < 0 ? kEdgeYMin : kEdgeYMax;
+        const int nb = cell_or_edge(grid, ni, nj, edge);
+        const double rise_to_it = di != 0 && dj != 0 ? rise_diag : rise;
+        if (nb >= 0) core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + rise_to_it);
+        else if (nb == -1) core = std::min(core, grid.base_at(c) + rise_to_it);  // a drop-off: bare base at the cell's own level
+      }
     }
     core = std::max(core, static_cast<double>(grid.base_at(c)));
     const bool changed = core < core_[c];
     core_[c] = core;
     return changed;
   };
-  // Passes until nothing changes; the first forward one finds whether any
-  // cell stands above its neighbours' cone at all (mostly not, once a flow
-  // runs out on gentle slopes), and then the rest are skipped.
-  for (int pass = 0; pass < 64; ++pass) {
+  // A forward pass leaves every cell within its rise of the neighbours
+  // before it, a backward pass of those after it; so once a pass after the
+  // first changes nothing, both hold and the core is found.
+  for (int pass = 0; pass < 128; ++pass) {
     bool changed = false;
-    if (pass == 0) {
-      for (int c : order_) changed = relax(c) || changed;
-      if (!changed) break;
-      for (auto it = order_.rbegin(); it != order_.rend(); ++it) relax(*it);
-      continue;
-    }
-    for (int c : order_) changed = relax(c) || changed;
-    for (auto it = order_.rbegin(); it != order_.rend(); ++it) changed = relax(*it) || changed;
-    if (!changed) break;
+    if (pass % 2 == 0)
+      for (std::size_t n = 0; n < candidates_.size(); ++n) changed = relax(n, 1) || changed;
+    else
+      for (std::size_t n = candidates_.size(); n-- > 0;) changed = relax(n, -1) || changed;
+    if (!changed && pass > 0) break;
   }
-  mark_fed(grid);
-  for (int c : order_) {
+  // The new layers go to layer_ first: whether a thin layer is fed reads
+  // its neighbours' layers as they were before the pass.
+  layer_.resize(candidates_.size());
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
     const std::int64_t q = grid.loose_quanta(c);
     // Less than h_stop above the core does not fail (it could not flow).
     std::int64_t failing = std::llround((grid.surface_at(c) - core_[c]) / kHeightQuantumM);
@@ -372,9 +398,9 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     // the automaton's slow regime has it; unless material is still flowing
     // into it (the thin edge of an advancing front, pushed on by the layer
     // behind: laid down each sub-step, it built a ramp the flow had to climb).
-    if (lies_down(c, flowing)) flowing = 0;
-    flowing_[c] = flowing;
+    layer_[n] = lies_down(grid, c, flowing) ? 0 : flowing;
   }
+  for (std::size_t n = 0; n < candidates_.size(); ++n) flowing_[candidates_[n]] = layer_[n];
 }
 
 void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
@@ -383,15 +409,16 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
   // Coulomb friction on the bed (and the side walls) along the flow's
   // direction; a face whose donor holds no flowing layer stands still.
   // Every face is read before any is written.
-  auto divergence = [&](int cell) {
-    if (cell < 0) return 0.0;
-    const std::array<int, 4> f = faces_of(cell);
-    return ux_face_[f[0]] - ux_face_[f[1]] + uy_face_[f[2]] - uy_face_[f[3]];
+  // The divergence of cell (ci, cj)'s faces.
+  auto divergence = [&](int ci, int cj) {
+    return ux_face_[x_face(ci + 1, cj)] - ux_face_[x_face(ci, cj)] + uy_face_[y_face(ci, cj + 1)] - uy_face_[y_face(ci, cj)];
   };
-  auto face_velocity = [&](int face, bool x, double u, double cross) {
+  // Face (i, j) along x or y, with velocity u.
+  auto face_velocity = [&](bool x, int i, int j, double u) {
     // a, b: the cells on the face's minus and plus sides (-1 drop-off, -2 wall).
-    const auto [a, b] = sides(grid, face, x);
+    const auto [a, b] = sides_at(grid, i, j, x);
     if (a == -2 || b == -2) return 0.0;
+    if (u == 0.0 && (a < 0 || flowing_[a] == 0) && (b < 0 || flowing_[b] == 0)) return 0.0;  // nothing to move
     const double ha = a >= 0 ? grid.surface_at(a) - rain_[a] * kHeightQuantumM : grid.base_at(b);
     const double hb = b >= 0 ? grid.surface_at(b) - rain_[b] * kHeightQuantumM : grid.base_at(a);
     const double fa = a >= 0 ? flowing_[a] * kHeightQuantumM : 0.0, fb = b >= 0 ? flowing_[b] * kHeightQuantumM : 0.0;
@@ -400,26 +427,26 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const bool plus = u != 0.0 ? u > 0.0 : push > 0.0;
     const int donor = plus ? a : b;
     if (donor < 0 || flowing_[donor] == 0) return 0.0;
-    const double k_earth = divergence(donor) >= 0.0 ? k_active_ : k_passive_;
+    const double k_earth = (plus ? divergence(x ? i - 1 : i, x ? j : j - 1) : divergence(i, j)) >= 0.0 ? k_active_ : k_passive_;
     // -g (grad H + (K - 1) grad f): Savage-Hutter (2.23) on the face.
     const double acc = -kGravity_m_s2 * ((hb - ha) + (k_earth - 1.0) * (fb - fa)) / d_;
     double un = u + acc * dt_s;
+    const double cross = x ? cross_speed_at_x_face(i, j) : cross_speed_at_y_face(i, j);
     const double f = flowing_[donor] * kHeightQuantumM;
     // A layer with no static soil under it rubs on the hard base.
-    const bool on_floor = grid.loose_quanta(donor) - flowing_[donor] - rain_[donor] <= 0 && grid.compacted_m(donor) == 0.0;
-    const double mu = on_floor && floor_mu_ >= 0.0 ? floor_mu_ : bed_friction_tan(f);
-    const double speed = std::hypot(un, cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
+    const double mu = on_floor(grid, donor, flowing_[donor]) ? floor_mu_ : bed_friction_tan(f);
+    const double speed = std::sqrt(un * un + cross * cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };
   new_x_.resize(x_faces_.size());
   new_y_.resize(y_faces_.size());
   for (std::size_t n = 0; n < x_faces_.size(); ++n) {
     const int f = x_faces_[n];
-    new_x_[n] = face_velocity(f, true, ux_face_[f], cross_speed_at_x_face(f % (nx_ + 1), f / (nx_ + 1)));
+    new_x_[n] = face_velocity(true, f % (nx_ + 1), f / (nx_ + 1), ux_face_[f]);
   }
   for (std::size_t n = 0; n < y_faces_.size(); ++n) {
     const int f = y_faces_[n];
-    new_y_[n] = face_velocity(f, false, uy_face_[f], cross_speed_at_y_face(f % nx_, f / nx_));
+    new_y_[n] = face_velocity(false, f % nx_, f / nx_, uy_face_[f]);
   }
   for (std::size_t n = 0; n < x_faces_.size(); ++n) ux_face_[x_faces_[n]] = new_x_[n];
   for (std::size_t n = 0; n < y_faces_.size(); ++n) uy_face_[y_faces_[n]] = new_y_[n];
@@ -438,7 +465,8 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
     const double u[4] = {std::max(ux_face_[faces[0]], 0.0), std::max(-ux_face_[faces[1]], 0.0),
                          std::max(uy_face_[faces[2]], 0.0), std::max(-uy_face_[faces[3]], 0.0)};
     std::int64_t out[4] = {0, 0, 0, 0}, total = 0;
-    for (int k = 0; k < 4; ++k) total += out[k] = std::llround(static_cast<double>(q) * u[k] * dt_s / d_);
+    for (int k = 0; k < 4; ++k)
+      if (u[k] > 0.0) total += out[k] = std::llround(static_cast<double>(q) * u[k] * dt_s / d_);
     if (total > q)
       for (int k = 0; k < 4; ++k) out[k] = out[k] * q / total;
     for (int k = 0; k < 4; ++k) {
@@ -514,18 +542,23 @@ void MomentumFlow::settle(const GranularGrid& grid) {
   // moves. A layer that has stopped, or thinned below h_stop, lies down as
   // static soil, and the faces it fed stand still.
   moving_.clear();
-  mark_fed(grid);
   for (int c : candidates_) {
     rain_[c] = std::min(rain_[c], grid.loose_quanta(c));
     flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
-    if (lies_down(c, flowing_[c])) flowing_[c] = 0;
   }
+  layer_.resize(candidates_.size());
+  for (std::size_t n = 0; n < candidates_.size(); ++n)
+    layer_[n] = lies_down(grid, candidates_[n], flowing_[candidates_[n]]) ? 0 : flowing_[candidates_[n]];
+  for (std::size_t n = 0; n < candidates_.size(); ++n) flowing_[candidates_[n]] = layer_[n];
   // Cells that only received this sub-step are among the candidates (the
   // moving cells' neighbours), so every changed layer is seen above.
   auto donor_still = [&](int face, bool x, double u) {
-    const auto [a, b] = sides(grid, face, x);
-    const int donor = u > 0.0 ? a : b;
-    return donor >= 0 && flowing_[donor] > 0;
+    // The donor: the cell on the face's minus side for u > 0, else its plus side.
+    const int n = x ? nx_ + 1 : nx_, i = face % n, j = face / n;
+    const int di = x && u > 0.0 ? -1 : 0, dj = !x && u > 0.0 ? -1 : 0;
+    if (i + di < 0 || i + di >= nx_ || j + dj < 0 || j + dj >= ny_) return false;
+    const int donor = grid.index(i + di, j + dj);
+    return !grid.covered(donor) && flowing_[donor] > 0;
   };
   for (int f : x_faces_)
     if (ux_face_[f] != 0.0 && !donor_still(f, true, ux_face_[f])) ux_face_[f] = 0.0;

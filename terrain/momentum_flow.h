@@ -144,9 +144,9 @@ class MomentumFlow {
   double earth_pressure_passive() const { return k_passive_; }
   // Bytes of state per cell: two face velocities, the flowing and raining
   // layers, the rain's speed, the core, the quanta across two faces in a
-  // sub-step and five flags; the moving list comes on top.
+  // sub-step and four flags; the moving list comes on top.
   static constexpr std::size_t kStateBytesPerCell =
-      4 * sizeof(double) + 4 * sizeof(std::int64_t) + 5 * sizeof(std::uint8_t);
+      4 * sizeof(double) + 4 * sizeof(std::int64_t) + 4 * sizeof(std::uint8_t);
 
  private:
   // Faces: x-face (i, j) lies between cells (i - 1, j) and (i, j), i in
@@ -159,15 +159,25 @@ class MomentumFlow {
   double& face_u(int k, int face) { return k < 2 ? ux_face_[face] : uy_face_[face]; }
   // The cells on a face's minus and plus sides (-1 a drop-off, -2 a wall).
   std::pair<int, int> sides(const GranularGrid& grid, int face, bool x) const;
+  std::pair<int, int> sides_at(const GranularGrid& grid, int i, int j, bool x) const;  // face (i, j)
   void substep(GranularGrid& grid, double dt_s);
+  // Puts the examined cells (candidates_, all listed) in raster order.
+  void raster_order_candidates();
   void fail(const GranularGrid& grid, double dt_s);
-  // Whether a neighbour's flowing layer moves into the cell across a face;
-  // mark_fed notes it for every examined cell before a pass changes layers.
+  // Whether a neighbour's flowing layer of at least h_stop moves into the
+  // cell across a face (the passes that change layers read it before they
+  // write any: layer_).
   bool fed(const GranularGrid& grid, int cell) const;
-  void mark_fed(const GranularGrid& grid);
-  // A thin layer lies down (fail, settle) unless a neighbour feeds it.
-  bool lies_down(int cell, std::int64_t flowing) const {
-    return rain_[cell] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !fed_[cell];
+  // Whether the cell's layer, `flowing` quanta, rubs on a floor of its own
+  // (floor_friction_deg set, no static soil under the layer).
+  bool on_floor(const GranularGrid& grid, int cell, std::int64_t flowing) const {
+    return floor_mu_ >= 0.0 && grid.loose_quanta(cell) - flowing - rain_[cell] <= 0 && grid.compacted_m(cell) == 0.0;
+  }
+  // A layer thinner than h_stop on a bed of grains lies down (fail, settle)
+  // unless a layer of at least h_stop feeds it; on a floor of its own it
+  // slides on until it stops.
+  bool lies_down(const GranularGrid& grid, int cell, std::int64_t flowing) const {
+    return rain_[cell] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !on_floor(grid, cell, flowing) && !fed(grid, cell);
   }
   // For a standing face: whether it takes the velocity of what arrived at
   // its minus-side cell (first) or its plus-side cell (second).
@@ -196,11 +206,11 @@ class MomentumFlow {
   std::vector<int> moving_, candidates_, x_faces_, y_faces_;
   // Per sub-step scratch.
   std::vector<std::pair<int, std::int64_t>> new_flowing_;
-  std::vector<int> order_;   // the examined cells in raster order
+  std::vector<double> rise_;  // the core's rise over a cell to its side neighbours (m), by candidates_
+  std::vector<std::int64_t> layer_;  // a pass's new flowing layers, by candidates_
   std::vector<std::int64_t> rain_;  // per cell: quanta falling freely onto its flowing layer
   std::vector<double> rain_speed_;  // their speed (m/s)
   std::vector<std::uint8_t> fell_;  // its rain has landed in this event
-  std::vector<std::uint8_t> fed_;   // a neighbour's layer flows into it (mark_fed)
   std::vector<double> core_;  // per cell: the stable core's surface (m), examined cells only
   std::vector<double> new_x_, new_y_;              // the listed faces' new velocities
   std::vector<std::int64_t> x_sent_, y_sent_;       // quanta across each face this sub-step (signed along +x, +y)
