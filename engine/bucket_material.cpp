@@ -18,17 +18,9 @@ void pose_bucket_material(BucketMaterial& b, const Eigen::Isometry3d& link_pose,
                           const Eigen::Vector3d& v_com, const Eigen::Vector3d& omega, double step_s) {
   const Eigen::Isometry3d pose = link_pose * b.link_from_container;
   const Eigen::Vector3d v_origin = v_com + omega.cross(pose.translation() - com_m);
-  if (b.apparent_gravity) {
-    // The origin's acceleration (its velocity's change over the step, the
-    // turn's centripetal part included), low-passed.
-    if (b.origin_velocity_known) {
-      const Eigen::Vector3d raw = (v_origin - b.origin_velocity_m_s) / step_s;
-      b.frame_acceleration_m_s2 += (raw - b.frame_acceleration_m_s2) * (step_s / (kFrameAccelerationFilterS + step_s));
-    }
-    b.origin_velocity_m_s = v_origin;
-    b.origin_velocity_known = true;
-    b.automaton->set_frame_acceleration(b.frame_acceleration_m_s2);
-  }
+  // The origin's acceleration (its velocity's change over the step, the
+  // turn's centripetal part included), low-passed.
+  if (b.apparent_gravity) b.automaton->set_frame_acceleration(update_frame_acceleration(b.frame, v_origin, step_s));
   b.automaton->set_pose(pose, v_origin, omega);
 }
 

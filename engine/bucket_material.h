@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/frame_acceleration.h"
 #include "terrain/body_automaton.h"
 #include "terrain/load_spreading.h"
 #include "vehicle/loader_description.h"
@@ -36,21 +37,10 @@ struct BucketMaterial {
   bool spread_stale = true;          // the material moved since
   std::vector<double> loads_N;
   terrain::LoadSpreadingScratch scratch;
-  // The apparent gravity of the bucket's accelerating frame (fast flows):
-  // the container origin's velocity last step and its acceleration, low-pass
-  // filtered (kFrameAccelerationFilterS).
+  // The apparent gravity of the bucket's accelerating frame (fast flows).
   bool apparent_gravity = false;
-  bool origin_velocity_known = false;
-  Eigen::Vector3d origin_velocity_m_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d frame_acceleration_m_s2 = Eigen::Vector3d::Zero();
+  FrameAcceleration frame;
 };
-
-// The load feels its frame's acceleration through a first-order low-pass of
-// this time constant: about the time a layer of the load takes to start
-// sliding, sqrt(h / g) for h ~ 0.1 m, long against the 2 ms step's contact
-// chatter of tyres and arm, which unfiltered would rock the load and, through
-// its load point, the machine.
-constexpr double kFrameAccelerationFilterS = 0.1;
 
 // Poses the automaton from the bucket link's pose and velocity (the link's
 // centre of mass `com_m` moving at `v_com`, turning at `omega`).

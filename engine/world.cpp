@@ -220,9 +220,16 @@ void World::enable_fast_flow(const terrain::MomentumFlowParameters& params) {
   // As the automaton's lists: sized once so that a busy step does not allocate.
   ground_flow_->reserve_cells(std::max<size_t>(16384, static_cast<size_t>(grid_->nx()) * grid_->ny() / 8));
   exchange_->set_ground_flow(ground_flow_.get());
-  // The bucket's load feels its frame's acceleration (its apparent gravity):
-  // braking hard with a heaped bucket throws the heap over the lip.
-  bucket_.apparent_gravity = true;
+  set_apparent_gravity(true);
+}
+
+void World::set_apparent_gravity(bool on) {
+  apparent_gravity_ = bucket_.apparent_gravity = on;
+  bucket_.frame = FrameAcceleration{};
+  for (FrameAcceleration& f : bed_frames_) f = FrameAcceleration{};
+  // Off again, the loads feel the world's gravity alone.
+  if (bucket_.automaton) bucket_.automaton->set_frame_acceleration(Eigen::Vector3d::Zero());
+  for (auto& t : trays_) t->set_frame_acceleration(Eigen::Vector3d::Zero());
 }
 
 void World::build_material(std::unique_ptr<terrain::BodyAutomaton> bucket) {
@@ -526,8 +533,14 @@ void World::step(const vehicle::LoaderControls& controls) {
     // (6.5) The material's base loads press on the bucket (posed at the end
     // of the last step).
     update_bucket_load(bucket_, kGravity_m_s2);
-    if (bucket_.weight_N > 0.0)
-      loader_->add_force(bucket_.link, Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N), bucket_.load_point_world_m());
+    bucket_load_force_N_ = Eigen::Vector3d(0.0, 0.0, -bucket_.weight_N);
+    // With the apparent gravity the load presses with m (g - a), its
+    // inertia too (d'Alembert): braking, it pushes the machine on. The
+    // acceleration is the filtered one the load feels, so that the coupled
+    // step does not rock; its integral over a stop is the velocity's change,
+    // so the load still hands over its whole momentum (tested).
+    if (bucket_.apparent_gravity) bucket_load_force_N_ -= bucket_.weight_N / kGravity_m_s2 * bucket_.frame.filtered_m_s2;
+    if (bucket_.weight_N > 0.0) loader_->add_force(bucket_.link, bucket_load_force_N_, bucket_.load_point_world_m());
   }
   if (grid_) soil_on_machine();
   if (!agents_.empty()) move_agents(true);

@@ -11,6 +11,7 @@
 
 #include "engine/agents.h"
 #include "engine/bucket_material.h"
+#include "engine/frame_acceleration.h"
 #include "engine/soil_resistance.h"
 #include "terrain/body_shapes.h"
 #include "terrain/granular_grid.h"
@@ -87,8 +88,17 @@ class World {
   // beside the automaton's slow avalanches. After add_soil_site; throws
   // std::invalid_argument where the site's tallest fall breaks the flow's
   // stability bound.
+  // Also turns on the apparent gravity below.
   void enable_fast_flow(const terrain::MomentumFlowParameters& params);
   const terrain::MomentumFlow* fast_flow() const { return ground_flow_.get(); }
+  // The loads on moving bodies (the bucket's, a truck bed's) feel their
+  // frames' acceleration, low-passed (engine/frame_acceleration.h): braking
+  // hard with a heaped bucket throws the heap over the lip, a truck pulling
+  // away shifts its load back.
+  void set_apparent_gravity(bool on);
+  // The force the bucket's load put on the bucket in the last step (N,
+  // world): its weight, and with the apparent gravity its inertia.
+  const Eigen::Vector3d& bucket_load_force_N() const { return bucket_load_force_N_; }
 
   // Material on moving bodies (thesis ch. 6): the bucket carries an
   // automaton (when its parameters describe its interior), trays hold
@@ -237,6 +247,9 @@ class World {
   std::vector<std::vector<AgentBody>> agent_bodies_;
   std::vector<Eigen::Isometry3d> truck_bed_in_agent_;  // per agent: its tray's frame in the agent's (trucks)
   std::vector<double> bed_load_kg_;
+  bool apparent_gravity_ = false;
+  Eigen::Vector3d bucket_load_force_N_ = Eigen::Vector3d::Zero();
+  std::vector<FrameAcceleration> bed_frames_;  // per agent: its bed's frame (trucks)
   std::vector<SteeringAgent> agent_scratch_;
   void move_agents(bool advance);  // advance: step the plans first
   double ground_height_at(const Eigen::Vector2d& xy) const;

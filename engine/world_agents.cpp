@@ -107,6 +107,7 @@ int World::add_agent(const AgentSpec& spec_in) {
   truck_bed_in_agent_.push_back(bed_in_agent);
   agents_.push_back(start_agents({spec}).front());  // the others go on as they were
   bed_load_kg_.assign(agent_specs_.size(), 0.0);
+  bed_frames_.resize(agent_specs_.size());
   agent_scratch_.reserve(agent_specs_.size());
   move_agents(false);  // into place, without stepping their plans
   return k;
@@ -146,6 +147,10 @@ void World::move_agents(bool advance) {
     if (agent_specs_[k].kind == AgentKind::kTruck && tray_index >= 0) {  // the bed goes where the truck is
       const Eigen::Vector3d v(s.body.velocity_m_s.x(), s.body.velocity_m_s.y(), 0.0);
       tray(tray_index).set_pose(frame * truck_bed_in_agent_[k], v, Eigen::Vector3d::Zero());
+      // The bed's frame accelerates with the truck's centre (the turn's
+      // centripetal part comes with the velocity's change of direction).
+      if (apparent_gravity_ && advance)
+        tray(tray_index).set_frame_acceleration(update_frame_acceleration(bed_frames_[k], v, kStepSeconds));
     }
   }
 }

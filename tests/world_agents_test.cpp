@@ -4,7 +4,11 @@
 // it, from its route to the loading spot and away once loaded.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "engine/world.h"
+#include "common/physical_constants.h"
 #include "io/soil_table.h"
 #include "tests/loader_support.h"
 
@@ -47,16 +51,17 @@ TEST(WorldAgents, TheMachineMeetsAPersonWithoutBeingPushed) {
   EXPECT_GT((worlds[1]->agents()[0].body.position_m - Eigen::Vector2d(4.0, 0.0)).norm(), 1.0) << "they tried to get away";
 }
 
-TEST(WorldAgents, ATruckCarriesItsBedToTheSpotAndAwayWithItsLoad) {
-  auto w = loader_on_ground();
-  w->enable_material(sand().flow, 0.05);
+// A 4 m x 2.2 m bed on a truck that backs in along -x to the loading spot
+// (8, 0), cab towards +x, leaves at 500 kg and drives off along +x; returns
+// the bed's tray.
+int add_truck(engine::World& w) {
   engine::TraySpec bed;
   bed.shape.length_m = 4.0;
   bed.shape.width_m = 2.2;
   bed.shape.back_height_m = bed.shape.side_height_back_m = bed.shape.side_height_front_m = bed.shape.front_height_m = 0.5;
   bed.shape.heel_radius_m = 0.0;
   bed.pose.translation() = Eigen::Vector3d(6.0, -1.1, 1.0);  // docked: bed centre at (8, 0), cab towards +x
-  const int tray = w->add_tray(bed);
+  const int tray = w.add_tray(bed);
   engine::AgentSpec truck;
   truck.id = "truck";
   truck.kind = engine::AgentKind::kTruck;
@@ -65,14 +70,27 @@ TEST(WorldAgents, ATruckCarriesItsBedToTheSpotAndAwayWithItsLoad) {
   truck.route_m = {{25.0, 0.0}, {14.0, 0.0}};  // backs in along -x; the spot (8, 0) is appended
   truck.leave_at_kg = 500.0;
   truck.exit_m = {{20.0, 0.0}, {40.0, 0.0}};
-  w->add_agent(truck);
-  ASSERT_EQ(w->agent_specs()[0].route_m.back(), Eigen::Vector2d(8.0, 0.0));
-  EXPECT_GT((w->tray(tray).pose().translation() - bed.pose.translation()).norm(), 10.0) << "the bed starts with the truck";
+  w.add_agent(truck);
+  return tray;
+}
+
+vehicle::LoaderControls parked() {
   vehicle::LoaderControls brake;
   brake.parking_brake = true;
+  return brake;
+}
+
+TEST(WorldAgents, ATruckCarriesItsBedToTheSpotAndAwayWithItsLoad) {
+  auto w = loader_on_ground();
+  w->enable_material(sand().flow, 0.05);
+  const int tray = add_truck(*w);
+  const Eigen::Vector3d docked_at = Eigen::Vector3d(6.0, -1.1, 1.0);
+  ASSERT_EQ(w->agent_specs()[0].route_m.back(), Eigen::Vector2d(8.0, 0.0));
+  EXPECT_GT((w->tray(tray).pose().translation() - docked_at).norm(), 10.0) << "the bed starts with the truck";
+  const vehicle::LoaderControls brake = parked();
   while (w->agents()[0].phase != engine::AgentPhase::kDocked && w->time_s() < 30.0) w->step(brake);
   ASSERT_EQ(w->agents()[0].phase, engine::AgentPhase::kDocked);
-  const double dock_error_m = (w->tray(tray).pose().translation() - bed.pose.translation()).norm();
+  const double dock_error_m = (w->tray(tray).pose().translation() - docked_at).norm();
   std::printf("[ measured ] truck docked after %.1f s, bed %.3f m from its loading pose\n", w->time_s(), dock_error_m);
   EXPECT_LT(dock_error_m, engine::kReachedM);
   // Loaded (put in, as if dumped): it leaves, the load with it.
@@ -85,6 +103,66 @@ TEST(WorldAgents, ATruckCarriesItsBedToTheSpotAndAwayWithItsLoad) {
   EXPECT_EQ(w->agents()[0].phase, engine::AgentPhase::kGone);
   std::printf("[ measured ] %.0f kg loaded; %.0f kg in the bed as the truck leaves the site\n", load_kg, w->tray(tray).material_mass_kg());
   EXPECT_GT(w->tray(tray).material_mass_kg(), 0.98 * load_kg) << "driven off smoothly, the load stays in";
+}
+
+// The bed's load feels the truck's acceleration (World::set_apparent_gravity,
+// on with the fast flows): pulling away at a = 1.5 m/s^2 tilts the load's
+// gravity back by beta = atan(a / g) = 8.7 deg, so a ridge standing at its
+// stop angle alpha_I slides towards the tailgate; without, it rides
+// unchanged. The books stay exact either way. The reference is the closed
+// form of a Coulomb heap under the tilt: the ridge's triangle (height H,
+// flanks at alpha_I) keeps its front foot and flank and lays its rear flank
+// at theta - beta to the bed, its area kept; the load's centre moves by the
+// triangles' centroid shift weighted by the ridge's share of the load. A
+// failing flank stops between alpha_I and the repose angle alpha (thesis
+// 4.5), so theta = alpha_I and theta = alpha bound the shift.
+double tilted_ridge_shift_m(double ridge_m, double tan_front, double tan_rear, double base_area_m2) {
+  const double area = ridge_m * ridge_m / tan_front;
+  const double h = std::sqrt(2.0 * area / (1.0 / tan_front + 1.0 / tan_rear));
+  const double front = ridge_m / tan_front, peak = front - h / tan_front, rear = peak - h / tan_rear;
+  return (front + peak + rear) / 3.0 * area / (area + base_area_m2);
+}
+
+TEST(WorldAgents, ATruckPullingAwayShiftsAHeapedLoadBackOnlyWithApparentGravity) {
+  double shift_m[2] = {0.0, 0.0}, at_stop_m = 0.0, at_repose_m = 0.0;
+  for (int on = 0; on < 2; ++on) {
+    auto w = loader_on_ground();
+    w->enable_material(sand().flow, 0.05);
+    w->set_apparent_gravity(on != 0);
+    const int tray = add_truck(*w);
+    while (w->agents()[0].phase != engine::AgentPhase::kDocked && w->time_s() < 30.0) w->step(parked());
+    ASSERT_EQ(w->agents()[0].phase, engine::AgentPhase::kDocked);
+    // A ridge along the bed's width, 0.45 m high, its flanks at the stop angle.
+    terrain::GranularGrid& g = w->tray(tray).grid();
+    const double tan_stop = std::tan(deg_to_rad(sand().flow.stop_angle_deg)), d = g.cell_size_m();
+    for (int j = 1; j + 1 < g.ny(); ++j)
+      for (int i = 0; i < g.nx(); ++i)
+        g.set_material_m(i, j, std::max(0.05, 0.45 - std::abs((i + 0.5) * d - 2.0) * tan_stop));
+    const double load_kg = w->tray(tray).material_mass_kg();
+    auto centre_m = [&] {
+      double m = 0.0, mx = 0.0;
+      for (int j = 0; j < g.ny(); ++j)
+        for (int i = 0; i < g.nx(); ++i) m += g.material_m(i, j), mx += g.material_m(i, j) * (i + 0.5) * d;
+      return mx / m;
+    };
+    for (int k = 0; k < 500; ++k) w->step(parked());  // it settles where it stands
+    const double before = centre_m();
+    // The truck leaves at once (loaded past 500 kg) and pulls away for 2 s.
+    for (int k = 0; k < 1000; ++k) w->step(parked());
+    ASSERT_EQ(w->agents()[0].phase, engine::AgentPhase::kLeaving);
+    shift_m[on] = centre_m() - before;
+    const engine::SteeringAgent& body = w->agents()[0].body;
+    const double beta = std::atan(body.max_force_N / body.mass_kg / kGravity_m_s2);
+    const double alpha_i = deg_to_rad(sand().flow.stop_angle_deg), alpha = deg_to_rad(sand().flow.repose_angle_deg);
+    at_stop_m = tilted_ridge_shift_m(0.40, std::tan(alpha_i), std::tan(alpha_i - beta), 0.05 * g.nx() * d);
+    at_repose_m = tilted_ridge_shift_m(0.40, std::tan(alpha_i), std::tan(alpha - beta), 0.05 * g.nx() * d);
+    std::printf("[ measured ] apparent gravity %s: the load's centre moved %+.4f m along the bed (closed form %+.4f to %+.4f m; "
+                "%.0f of %.0f kg in it)\n", on ? "on" : "off", shift_m[on], at_repose_m, at_stop_m, w->tray(tray).material_mass_kg(), load_kg);
+    EXPECT_TRUE(g.ledger().balanced());
+  }
+  EXPECT_LT(std::abs(shift_m[0]), 0.002) << "without apparent gravity the load rides as it stood";
+  EXPECT_LT(shift_m[1], at_repose_m) << "pulling away throws the load towards the tailgate";
+  EXPECT_GT(shift_m[1], at_stop_m) << "no farther than a flank at the stop angle";
 }
 
 }  // namespace
