@@ -96,16 +96,22 @@ std::string drawing_figure(bool quick) {
 }
 
 // The fast flows' cost (docs/terrain_model.md, "Fast flows with momentum"):
-// the same session at 5 cm with the site's fast flows on, beside the run
-// above without them (the aim: within 20 % of its real-time factor).
-std::string fast_flow_cost(const SessionRun& without) {
-  const SessionRun with = whole_session(0.05, 0.0, true);
-  const double slower = without.real_time_factor / with.real_time_factor - 1.0;
-  return "With the site's fast flows on (`<soil fast_flow=\"on\">`, docs/terrain_model.md), the 5 cm session ran at " +
-         fmt("%.1fx", with.real_time_factor) + " real time (" + fmt("%.1f s", with.simulated_s) + " in " +
-         fmt("%.1f s", with.wall_s) + ", " + with.end_reason + ", " + fmt("%.0f kg", with.moved_kg) + " moved) against " +
-         fmt("%.1fx", without.real_time_factor) + " without: " + fmt("%+.0f %%", 100.0 * slower) +
-         " cost per simulated second (wall times on this machine scatter by about 10 % run to run).\n\n";
+// the session's first 45 s at 5 cm (filling, carrying, the first dump; the
+// same script both ways: whole sessions differ in length, since the fast
+// flows change what spills), with and without the site's fast flows, each
+// run twice in turn, the faster of each kept (the aim: within 20 %).
+std::string fast_flow_cost() {
+  constexpr double kFirstS = 45.0;
+  double with_s = 1e300, without_s = 1e300;
+  for (int k = 0; k < 2; ++k) {
+    without_s = std::min(without_s, whole_session(0.05, kFirstS, false).wall_s);
+    with_s = std::min(with_s, whole_session(0.05, kFirstS, true).wall_s);
+  }
+  return "With the site's fast flows on (`<soil fast_flow=\"on\">`, docs/terrain_model.md), the 5 cm session's first " +
+         fmt("%g", kFirstS) + " simulated seconds (filling, carrying and the first dump) took " + fmt("%.2f s", with_s) +
+         " against " + fmt("%.2f s", without_s) + " without (the faster of two runs each, in turn): " +
+         fmt("%+.0f %%", 100.0 * (with_s / without_s - 1.0)) +
+         " wall time (the issue's aim: within 20 %; callgrind's instruction count, steadier, is in docs/terrain_model.md).\n\n";
 }
 
 }  // namespace
@@ -153,7 +159,7 @@ ReportSection sessions_section(const ReportContext& ctx) {
         fmt("%g", d1 / d2) + "x smaller cells). The sessions differ in length: where the operator's script fills the bucket "
         "depends on the pile the cells make, so the sessions are compared per simulated second." +
         sentence(budget.skipped_note()) + "\n\n";
-  if (!ctx.quick) md += fast_flow_cost(runs.at(0.05));
+  if (!ctx.quick) md += fast_flow_cost();
 
   md += "### Table 9.3: the whole simulator by cells per metre\n\nThe thesis's figures are the whole application's frames "
         "per second (aerial view, machine at rest, machine working the soil), drawing included (a 2008 GPU), with the physics "

@@ -136,7 +136,7 @@ std::pair<int, int> MomentumFlow::sides_at(const GranularGrid& grid, int i, int 
 
 void MomentumFlow::reserve_cells(std::size_t cells) {
   cells = std::min(cells, flowing_.size());
-  candidates_.reserve(cells), moving_.reserve(cells), rise_.reserve(cells), layer_.reserve(cells);
+  candidates_.reserve(cells), moving_.reserve(cells), rise_.reserve(cells), layer_.reserve(cells), keep_.reserve(cells);
   x_faces_.reserve(2 * cells), y_faces_.reserve(2 * cells), new_x_.reserve(2 * cells), new_y_.reserve(2 * cells);
   new_flowing_.reserve(8 * cells);
 }
@@ -351,9 +351,11 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
       for (std::size_t n = candidates_.size(); n-- > 0;) changed = relax(n, -1) || changed;
     if (!changed && pass > 0) break;
   }
-  // The new layers go to layer_ first: whether a thin layer is fed reads
-  // its neighbours' layers as they were before the pass.
+  // The new layers go to layer_ first, the faces' new momentum to keep_:
+  // whether a thin layer is fed reads its neighbours as they were before
+  // the pass.
   layer_.resize(candidates_.size());
+  keep_.assign(candidates_.size(), 1.0);
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     const std::int64_t q = grid.loose_quanta(c);
@@ -383,11 +385,9 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
             std::clamp<std::int64_t>(std::llround(rain_speed_[c] * dt_s / kHeightQuantumM), 1, rain_[c]);
         rain_[c] -= lands;
         if (rain_[c] == 0) fell_[c] = 1;
-        const double keep = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
-        // The faces this cell feeds carry its layer's momentum, now spread over more mass.
-        const std::array<int, 4> faces = faces_of(c);
-        for (int k = 0; k < 4; ++k)
-          if (leaves(k, face_u(k, faces[k]))) face_u(k, faces[k]) *= keep;
+        // The faces this cell feeds carry its layer's momentum, now spread
+        // over more mass (after the pass, like the layers).
+        keep_[n] = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
         flowing += lands;
       }
     } else {
@@ -400,7 +400,14 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     // behind: laid down each sub-step, it built a ramp the flow had to climb).
     layer_[n] = lies_down(grid, c, flowing) ? 0 : flowing;
   }
-  for (std::size_t n = 0; n < candidates_.size(); ++n) flowing_[candidates_[n]] = layer_[n];
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    flowing_[c] = layer_[n];
+    if (keep_[n] == 1.0) continue;
+    const std::array<int, 4> faces = faces_of(c);
+    for (int k = 0; k < 4; ++k)
+      if (leaves(k, face_u(k, faces[k]))) face_u(k, faces[k]) *= keep_[n];
+  }
 }
 
 void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {

@@ -208,6 +208,7 @@ class MomentumFlow {
   std::vector<std::pair<int, std::int64_t>> new_flowing_;
   std::vector<double> rise_;  // the core's rise over a cell to its side neighbours (m), by candidates_
   std::vector<std::int64_t> layer_;  // a pass's new flowing layers, by candidates_
+  std::vector<double> keep_;  // fail: the share of its faces' momentum a cell keeps as rain lands, by candidates_
   std::vector<std::int64_t> rain_;  // per cell: quanta falling freely onto its flowing layer
   std::vector<double> rain_speed_;  // their speed (m/s)
   std::vector<std::uint8_t> fell_;  // its rain has landed in this event
