@@ -258,23 +258,32 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
 }
 
 void MomentumFlow::raster_order_candidates() {
-  // The failure's passes run in raster order. The listed flags between the
-  // first and the last examined cell give that order in one scan, eight
-  // cells a word where none is listed (a sort costs n log n comparisons).
+  // The failure's passes run in raster order. The listed flags inside the
+  // examined cells' bounding box give that order in one scan, eight cells a
+  // word where none is listed (a sort costs n log n comparisons).
   if (candidates_.size() < 2) return;
-  const auto [lo, hi] = std::minmax_element(candidates_.begin(), candidates_.end());
-  const std::size_t first = static_cast<std::size_t>(*lo), last = static_cast<std::size_t>(*hi);
+  int lo = candidates_[0], hi = lo, i_lo = nx_, i_hi = 0;
+  for (int c : candidates_) {
+    lo = std::min(lo, c), hi = std::max(hi, c);
+    const int i = c % nx_;
+    i_lo = std::min(i_lo, i), i_hi = std::max(i_hi, i);
+  }
   candidates_.clear();
-  std::size_t c = first;
-  while (c <= last) {
-    std::uint64_t word = 0;
-    if (c + 8 <= last + 1) std::memcpy(&word, &listed_[c], sizeof word);
-    if (c + 8 <= last + 1 && word == 0) {
-      c += 8;
-      continue;
+  for (int row = lo / nx_ * nx_; row <= hi; row += nx_) {
+    const int last = row + i_hi;
+    int c = row + i_lo;
+    while (c <= last) {
+      std::uint64_t word = 0;
+      if (c + 8 <= last + 1) {
+        std::memcpy(&word, &listed_[static_cast<std::size_t>(c)], sizeof word);
+        if (word == 0) {
+          c += 8;
+          continue;
+        }
+      }
+      if (listed_[static_cast<std::size_t>(c)]) candidates_.push_back(c);
+      ++c;
     }
-    if (listed_[c]) candidates_.push_back(static_cast<int>(c));
-    ++c;
   }
 }
 
