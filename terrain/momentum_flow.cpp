@@ -300,7 +300,6 @@ bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
   return false;
 }
 
-
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose
@@ -328,11 +327,12 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     const int c = candidates_[n], i = c % nx_, j = c / nx_;
     const double rise = rise_[n], rise_diag = rise * std::sqrt(2.0);
     double core = core_[c];
+    const auto level = [&](int nb) { return listed_[nb] ? core_[nb] : grid.surface_at(nb); };  // examined: its core
     if (i > 0 && j > 0 && i + 1 < nx_ && j + 1 < ny_) {
       // Inside the grid: the neighbours by offset.
       for (const auto& o : kBefore) {
         const int nb = c + sign * (o[0] + o[1] * nx_);
-        if (!grid.covered(nb)) core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + (o[0] != 0 && o[1] != 0 ? rise_diag : rise));
+        if (!grid.covered(nb)) core = std::min(core, level(nb) + (o[0] != 0 && o[1] != 0 ? rise_diag : rise));
       }
     } else {
       for (const auto& o : kBefore) {
@@ -340,7 +340,7 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
         const Edge edge = ni < 0 ? kEdgeXMin : ni >= nx_ ? kEdgeXMax : nj < 0 ? kEdgeYMin : kEdgeYMax;
         const int nb = cell_or_edge(grid, ni, nj, edge);
         const double rise_to_it = di != 0 && dj != 0 ? rise_diag : rise;
-        if (nb >= 0) core = std::min(core, (listed_[nb] ? core_[nb] : grid.surface_at(nb)) + rise_to_it);
+        if (nb >= 0) core = std::min(core, level(nb) + rise_to_it);
         else if (nb == -1) core = std::min(core, grid.base_at(c) + rise_to_it);  // a drop-off: bare base at the cell's own level
       }
     }
@@ -404,9 +404,10 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     }
     // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
     // min_flow_layer_m, the automaton's transport layer): it lies down, and
-    // the automaton's slow regime has it; unless material is still flowing
-    // into it (the thin edge of an advancing front, pushed on by the layer
-    // behind: laid down each sub-step, it built a ramp the flow had to climb).
+    // the automaton's slow regime has it; unless a layer of at least h_stop
+    // still flows into it (the thin edge of an advancing front, pushed on by
+    // the layer behind: laid down each sub-step, it built a ramp the flow had
+    // to climb), or it slides on a floor of its own (lies_down).
     layer_[n] = lies_down(grid, c, flowing) ? 0 : flowing;
   }
   for (std::size_t n = 0; n < candidates_.size(); ++n) {

@@ -54,13 +54,16 @@ TEST(WorldAgents, TheMachineMeetsAPersonWithoutBeingPushed) {
 // A 4 m x 2.2 m bed on a truck that backs in along -x to the loading spot
 // (8, 0), cab towards +x, leaves at 500 kg and drives off along +x; returns
 // the bed's tray.
+// The bed's frame when docked: centre at (8, 0), cab towards +x.
+const Eigen::Vector3d kDockedBedOriginM(6.0, -1.1, 1.0);
+
 int add_truck(engine::World& w) {
   engine::TraySpec bed;
   bed.shape.length_m = 4.0;
   bed.shape.width_m = 2.2;
   bed.shape.back_height_m = bed.shape.side_height_back_m = bed.shape.side_height_front_m = bed.shape.front_height_m = 0.5;
   bed.shape.heel_radius_m = 0.0;
-  bed.pose.translation() = Eigen::Vector3d(6.0, -1.1, 1.0);  // docked: bed centre at (8, 0), cab towards +x
+  bed.pose.translation() = kDockedBedOriginM;
   const int tray = w.add_tray(bed);
   engine::AgentSpec truck;
   truck.id = "truck";
@@ -84,13 +87,12 @@ TEST(WorldAgents, ATruckCarriesItsBedToTheSpotAndAwayWithItsLoad) {
   auto w = loader_on_ground();
   w->enable_material(sand().flow, 0.05);
   const int tray = add_truck(*w);
-  const Eigen::Vector3d docked_at = Eigen::Vector3d(6.0, -1.1, 1.0);
   ASSERT_EQ(w->agent_specs()[0].route_m.back(), Eigen::Vector2d(8.0, 0.0));
-  EXPECT_GT((w->tray(tray).pose().translation() - docked_at).norm(), 10.0) << "the bed starts with the truck";
+  EXPECT_GT((w->tray(tray).pose().translation() - kDockedBedOriginM).norm(), 10.0) << "the bed starts with the truck";
   const vehicle::LoaderControls brake = parked();
   while (w->agents()[0].phase != engine::AgentPhase::kDocked && w->time_s() < 30.0) w->step(brake);
   ASSERT_EQ(w->agents()[0].phase, engine::AgentPhase::kDocked);
-  const double dock_error_m = (w->tray(tray).pose().translation() - docked_at).norm();
+  const double dock_error_m = (w->tray(tray).pose().translation() - kDockedBedOriginM).norm();
   std::printf("[ measured ] truck docked after %.1f s, bed %.3f m from its loading pose\n", w->time_s(), dock_error_m);
   EXPECT_LT(dock_error_m, engine::kReachedM);
   // Loaded (put in, as if dumped): it leaves, the load with it.
