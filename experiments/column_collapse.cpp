@@ -75,6 +75,20 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
       if (r <= std::max(kCentreZoneOverR0 * c.r0_m, 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, h);
     }
   }
+  if (!c.slot) {
+    // The deposit's reach along the grid's axes and its diagonals from the
+    // axis cell (the column stands centred on a cell): the farthest cell at
+    // least the edge's thickness, the larger of each direction's four.
+    const int ic = g.nx() / 2, jc = g.ny() / 2;
+    for (int dir = 0; dir < 8; ++dir) {
+      const int di = (dir < 4 ? (dir == 0) - (dir == 1) : (dir % 2 == 0 ? 1 : -1));
+      const int dj = (dir < 4 ? (dir == 2) - (dir == 3) : (dir < 6 ? 1 : -1));
+      for (int n = 1; g.contains(ic + n * di, jc + n * dj); ++n)
+        if (g.material_m(ic + n * di, jc + n * dj) >= kEdgeThicknessOverR0 * c.r0_m)
+          (dir < 4 ? f.edge_along_axes_m : f.edge_along_diagonals_m) =
+              std::max(dir < 4 ? f.edge_along_axes_m : f.edge_along_diagonals_m, distance_m(g, c, ic + n * di, jc + n * dj));
+    }
+  }
   double acc = 0.0;
   bool found = false;
   for (int k = 0; k < bins; ++k) {

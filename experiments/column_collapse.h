@@ -50,6 +50,10 @@ struct CollapseFrame {
   double front_r99_m = 0.0;      // the distance within which 99 % of the mass lies
   double front_edge_m = 0.0;     // the farthest cell at least 0.02 r0 thick (the DEM's quarter grain at r0 = 0.1 m)
   double centre_height_m = 0.0;  // the highest column within 0.12 r0 of the axis or the wall (1.5 grains)
+  // A tube's deposit: its edge (as front_edge_m, cell by cell) along the
+  // grid's axes and along its diagonals from the axis: a round deposit has
+  // them alike.
+  double edge_along_axes_m = 0.0, edge_along_diagonals_m = 0.0;
 };
 
 struct CollapseRun {

@@ -12,9 +12,13 @@
 // default; Savage-Hutter's (2.23) active and passive values selectable) and
 // Coulomb friction mu on the bed: the soil's flowing friction, the mu_s of
 // the mu(I) law (Pouliquen 1999, Jop et al. 2006: the angle at which a
-// thick flow stops; terrain/flow_law.h), or on a bare hard base the floor's. Advection is Stelling and Duinmeijer's (2003) momentum-
-// conserving upwind form: a face's velocity mixes with what arrives at its
-// donor cell.
+// thick flow stops; terrain/flow_law.h), or on a bare hard base the
+// floor's. Advection is Stelling and Duinmeijer's (2003) momentum-conserving
+// upwind form with its cross terms: a face's velocity mixes with what
+// arrives at its donor cell from any side, so a layer moving diagonally
+// keeps both components. The layer crosses a face as a flux-limited
+// Lax-Wendroff flux (minmod; LeVeque 2002), so a front does not run ahead
+// of itself by a cell's smear.
 //
 // Failure: the stable core under the examined cells is the highest surface
 // under the terrain whose slope nowhere exceeds the repose angle; all
@@ -179,10 +183,13 @@ class MomentumFlow {
   bool lies_down(const GranularGrid& grid, int cell, std::int64_t flowing) const {
     return rain_[cell] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !on_floor(grid, cell, flowing) && !fed(grid, cell);
   }
-  // For a standing face: whether it takes the velocity of what arrived at
-  // its minus-side cell (first) or its plus-side cell (second).
-  std::pair<bool, bool> standing_face_takes(const GranularGrid& grid, int face, bool x, std::int64_t sent_minus,
-                                            std::int64_t sent_plus) const;
+  // The quanta that arrived at face (i, j)'s donor on its minus side (the
+  // cell behind it along the axis) or plus side this sub-step, and the
+  // momentum along the face's axis they carried (quanta * m/s).
+  struct Arrival {
+    double quanta = 0.0, momentum = 0.0;
+  };
+  Arrival arrival(int i, int j, bool x, bool plus_side) const;
   void accelerate(const GranularGrid& grid, double dt_s);
   void transport(GranularGrid& grid, double dt_s);
   void carry_momentum(const GranularGrid& grid);
