@@ -19,6 +19,12 @@ using session::OperatorPlayer;
 using session::to_message;
 
 int run_operator(const OperatorJob& job) {
+  if (job.session.empty())
+    throw io::InputError("--session: name the session to drive (skidsim run --session NAME, or the name it prints)");
+  io::check_session_name(job.session, "--session");
+  if (job.control_channel.empty() || job.control_channel.find('@') != std::string::npos)
+    throw io::InputError("--channel '" + job.control_channel + "': expected a base channel name, without '@'");
+  const io::LcmChannels channels = io::session_channels(job.session, job.control_channel);
   OperatorPlayer player(io::load_operator_script(job.script_path));
   const std::string url = job.lcm_url.empty() ? std::string(io::kDefaultLcmUrl) : job.lcm_url;
   lcm::LCM lcm(url);
@@ -41,11 +47,11 @@ int run_operator(const OperatorJob& job) {
       lcm->publish(channel, &m);
     }
     std::int64_t sender_id = 0;
-  } handler{&player, &lcm, job.control_channel};
+  } handler{&player, &lcm, channels.control};
   // A restart is a new sender (the simulator then accepts a new count).
   handler.sender_id = static_cast<std::int64_t>(
       std::chrono::steady_clock::now().time_since_epoch().count() ^ (static_cast<std::int64_t>(::getpid()) << 32));
-  lcm.subscribe(job.state_channel, &Handler::on_state, &handler);
+  lcm.subscribe(io::session_channels(job.session).state, &Handler::on_state, &handler);
   auto last_state = std::chrono::steady_clock::now();
   while (!player.done()) {
     if (lcm.handleTimeout(200) > 0) {

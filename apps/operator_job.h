@@ -12,8 +12,8 @@ namespace skidsim::apps {
 struct OperatorJob {
   std::string script_path;
   std::string lcm_url;  // empty: the default provider
-  std::string control_channel = "SKIDSIM_CONTROL";
-  std::string state_channel = "SKIDSIM_STATE";
+  std::string session;  // the live session to drive (skidsim run --session; io::session_channels)
+  std::string control_channel = "SKIDSIM_CONTROL";  // its base name (the exercise's <operator channel>)
   double idle_timeout_s = 10.0;  // no state for this long: the session is over
 };
 

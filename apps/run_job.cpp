@@ -259,9 +259,21 @@ int run_session(const RunJob& job) {
   const std::string url = !job.lcm_url.empty() ? job.lcm_url
                           : !ex.operator_source.lcm_url.empty() ? ex.operator_source.lcm_url
                                                                 : std::string(io::kDefaultLcmUrl);
+  // The log's channels are the base names; a live session's are its own
+  // (its name in them), so that sessions on one provider never cross.
   io::LcmChannels channels;
   channels.control = ex.operator_source.channel;
-  if ((!player && !replaying) || !job.lcm_url.empty()) bridge = std::make_unique<io::LcmBridge>(url, channels, &input);
+  const bool live_lcm = (!player && !replaying) || !job.lcm_url.empty();
+  std::string session_name;
+  if (!job.session.empty() && !live_lcm)
+    throw io::InputError("--session '" + job.session + "': this run uses no LCM (a script or a replay without --lcm)");
+  if (live_lcm) {
+    session_name = job.session.empty() ? io::default_session_name(ex.name) : job.session;
+    io::check_session_name(session_name, "--session");
+    bridge = std::make_unique<io::LcmBridge>(url, io::session_channels(session_name, channels.control), &input);
+    std::cout << "live session '" << session_name << "': controls on " << io::session_channels(session_name, channels.control).control
+              << ", state on " << io::session_channels(session_name).state << " (" << url << ")" << std::endl;
+  }
 
   SessionOptions options;
   options.limit_s = job.max_s;
@@ -320,7 +332,8 @@ int run_session(const RunJob& job) {
   report["mode"] = mode;
   report["operator"] = replaying ? "replay " + job.replay_path
                        : player  ? "script " + script_path
-                                 : "lcm " + url + " channel " + channels.control;
+                                 : "lcm " + url + " channel " + io::session_channels(session_name, channels.control).control;
+  if (bridge) report["session"] = session_name;
   if (player) report["result"]["script_phases_timed_out"] = player->player().timed_out();
   report["recording"] = recorded;
   report["controls"] = {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},

@@ -27,6 +27,9 @@ struct RunJob {
   double frame_fps = 0.0;                 // 0: the exercise's
   std::string camera;                   // empty: the exercise's
   bool terrain_tiles = false;  // publish and log the soil's changed tiles every 0.5 s (SKIDSIM_TERRAIN)
+  // A live session's name, in its channels' names (io::session_channels);
+  // empty: io::default_session_name. Only with LCM.
+  std::string session;
 };
 
 // Returns the exit code: 0 when the session ran (report.json says whether

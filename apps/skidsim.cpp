@@ -299,6 +299,9 @@ void add_session_command(CLI::App& app, Commands& c) {
   c.run_cmd->add_option("--script", c.run.script_path, "Operator script (default: the exercise's operator)");
   c.run_cmd->add_option("--lcm", c.run.lcm_url, "LCM provider (default: the exercise's, else udpm on this host, ttl 0)");
   c.run_cmd->add_option("--mode", c.run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
+  c.run_cmd->add_option("--session", c.run.session,
+                        "A live session's name: its LCM channels are its own (SKIDSIM_STATE@NAME...), so sessions on one\n"
+                        "host never cross; an operator or a view attaches by it (default: the exercise's name and the process id)");
   // 0 is refused rather than read as "no limit": a session always ends.
   c.run_cmd->add_option("--max-s", c.run.max_s, "Stop after this much simulated time, 0.001 to 86400 s (default: the exercise's limit)")
       ->check(number_in(0.001, 86400.0));
@@ -356,7 +359,10 @@ void add_session_tools(CLI::App& app, Commands& c) {
                   "answer each with the command for that control tick");
   c.operator_cmd->add_option("script", c.operator_job.script_path, "Operator script")->required();
   c.operator_cmd->add_option("--lcm", c.operator_job.lcm_url, "LCM provider (default: udpm on this host, ttl 0)");
-  c.operator_cmd->add_option("--channel", c.operator_job.control_channel, "Control channel")->capture_default_str();
+  c.operator_cmd->add_option("--session", c.operator_job.session, "The live session to drive (skidsim run --session, or the name it prints)")
+      ->required();
+  c.operator_cmd->add_option("--channel", c.operator_job.control_channel, "Control channel's base name (the exercise's <operator channel>)")
+      ->capture_default_str();
   c.operator_cmd->add_option("--idle-s", c.operator_job.idle_timeout_s, "Stop when no state came for this long")
       ->capture_default_str()->check(number_in(0.01, 86400.0));
 }

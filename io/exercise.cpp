@@ -459,6 +459,8 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         o.lcm_url = a.text("url", false);
         if (a.has("channel")) o.channel = a.text("channel", true);
         if (o.channel.empty()) a.fail("attribute 'channel' must not be empty");
+        if (o.channel.find('@') != std::string::npos)
+          a.fail("attribute 'channel' must not contain '@' (a live session adds '@' and its name)");
         o.watchdog_s = a.has("watchdog_ms") ? a.number_in("watchdog_ms", 10.0, 10000.0) / 1000.0 : o.watchdog_s;
       } else if (source == "script") {
         o.kind = OperatorSource::Kind::kScript;

@@ -1,10 +1,34 @@
 #include "io/lcm_bridge.h"
 
+#include <unistd.h>
+
 #include <stdexcept>
 
 #include "io/atomic_file.h"
 
 namespace skidsim::io {
+
+LcmChannels session_channels(const std::string& session, const std::string& control) {
+  LcmChannels c;
+  c.control = control;
+  for (std::string* name : {&c.control, &c.state, &c.events, &c.terrain}) *name = bare_channel(*name) + "@" + session;
+  return c;
+}
+
+void check_session_name(const std::string& name, const std::string& option) {
+  const bool ok = !name.empty() && name.size() <= 64 && name.find_first_not_of(
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") == std::string::npos;
+  if (!ok) throw InputError(option + " '" + name + "': expected 1 to 64 of A-Z a-z 0-9 . _ -");
+}
+
+std::string default_session_name(const std::string& exercise_name) {
+  std::string base;
+  for (char ch : exercise_name.substr(0, 40)) {
+    const bool keep = (ch >= 'A' && ch <= 'Z') || (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '.' || ch == '_';
+    base += keep ? ch : '-';
+  }
+  return (base.empty() ? std::string("session") : base) + "-" + std::to_string(::getpid());
+}
 
 LcmBridge::LcmBridge(const std::string& url, const LcmChannels& channels, ControlInput* input)
     : owned_(std::make_unique<lcm::LCM>(url)), lcm_(owned_.get()), channels_(channels), input_(input) {
@@ -34,7 +58,7 @@ void LcmBridge::on_control(const lcm::ReceiveBuffer* buffer, const std::string& 
     lcm::LogEvent e;
     e.eventnum = 0;
     e.timestamp = static_cast<std::int64_t>(now_s_ * 1e6);
-    e.channel = channel;
+    e.channel = bare_channel(channel);
     e.datalen = static_cast<std::int32_t>(buffer->data_size);
     e.data = buffer->data;
     recorder_->writeEvent(&e);

@@ -27,6 +27,21 @@ struct LcmChannels {
   std::string terrain = "SKIDSIM_TERRAIN";  // optional: terrain_tile_t
 };
 
+// A live session's own channels: each base name, "@" and the session's name
+// (SKIDSIM_STATE@bay-3), so that sessions sharing one provider (a centre's
+// trainees side by side on one host's multicast) never hear each other; a
+// view or an operator attaches to a session by its name. `control` is the
+// exercise's control channel. A session's log keeps the base names (a log
+// holds one session; bare_channel).
+LcmChannels session_channels(const std::string& session, const std::string& control = LcmChannels{}.control);
+inline std::string bare_channel(const std::string& channel) { return channel.substr(0, channel.find('@')); }
+// A session name is 1 to 64 of A-Z a-z 0-9 . _ - (it goes into channel
+// names and file names); io::InputError naming `option` otherwise.
+void check_session_name(const std::string& name, const std::string& option);
+// The name a live session takes unless it is given one, unique on this
+// host: its exercise's name (other characters as '-') and this process's id.
+std::string default_session_name(const std::string& exercise_name);
+
 class LcmBridge {
  public:
   // Opens the provider at `url` (throws io::InputError naming the URL when
@@ -49,7 +64,8 @@ class LcmBridge {
 
   // Every message received on the control channel, as received (even one
   // that does not decode), is also written to `log` stamped with the
-  // simulated time: the session's log holds every channel. nullptr: none.
+  // simulated time, under the channel's base name: the session's log holds
+  // every channel. nullptr: none.
   void record_controls_to(lcm::LogFile* log) { recorder_ = log; }
 
   void publish_state(const skidsim_lcm::state_t& state);

@@ -11,10 +11,13 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 ./build/skidsim pour --out "${1:-runs/pour-demo}"
 ./build/skidsim dig --out "${2:-runs/dig-demo}"
-./build/skidsim operator scenarios/pile_to_zone.operator.xml --idle-s 5 &
+# The session's own LCM channels (SKIDSIM_STATE@demo-PID...): another
+# session on this host never crosses it.
+session="demo-$$"
+./build/skidsim operator scenarios/pile_to_zone.operator.xml --session "$session" --idle-s 5 &
 operator=$!
-./build/skidsim run scenarios/pile_to_zone.xml --mode lockstep --record --frame-width 640 --frame-height 360 \
-  --out "${3:-runs/session-demo}"
+./build/skidsim run scenarios/pile_to_zone.xml --mode lockstep --session "$session" --record --frame-width 640 \
+  --frame-height 360 --out "${3:-runs/session-demo}"
 wait "$operator" || true  # it stops when the session does
 ./build/skidsim review "${3:-runs/session-demo}"
 ./build/skidsim check

@@ -444,7 +444,10 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const bool plus = u != 0.0 ? u > 0.0 : push > 0.0;
     const int donor = plus ? a : b;
     if (donor < 0 || flowing_[donor] == 0) return 0.0;
-    const double k_earth = (plus ? divergence(x ? i - 1 : i, x ? j : j - 1) : divergence(i, j)) >= 0.0 ? k_active_ : k_passive_;
+    // Savage-Hutter's K switches with the donor's divergence (spreading:
+    // active); one K (the default, 1) needs no divergence.
+    const double k_earth = k_active_ == k_passive_ ? k_active_
+                           : (plus ? divergence(x ? i - 1 : i, x ? j : j - 1) : divergence(i, j)) >= 0.0 ? k_active_ : k_passive_;
     // -g (grad H + (K - 1) grad f): Savage-Hutter (2.23) on the face.
     const double acc = -kGravity_m_s2 * ((hb - ha) + (k_earth - 1.0) * (fb - fa)) / d_;
     double un = u + acc * dt_s;
@@ -481,6 +484,8 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
     const std::array<int, 4> faces = faces_of(c);
     const double u[4] = {std::max(ux_face_[faces[0]], 0.0), std::max(-ux_face_[faces[1]], 0.0),
                          std::max(uy_face_[faces[2]], 0.0), std::max(-uy_face_[faces[3]], 0.0)};
+    if (!(u[0] > 0.0 || u[1] > 0.0 || u[2] > 0.0 || u[3] > 0.0)) continue;
+    const int nb[4] = {neighbour(grid, i, j, 0), neighbour(grid, i, j, 1), neighbour(grid, i, j, 2), neighbour(grid, i, j, 3)};
     std::int64_t out[4] = {0, 0, 0, 0}, total = 0;
     for (int k = 0; k < 4; ++k) {
       if (!(u[k] > 0.0)) continue;
@@ -489,7 +494,7 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
       // (LeVeque 2002, (6.39)): TVD up to Courant 1, so it adds no extrema,
       // and at most 1.5 f. Donor cell (f_face = f) let a front run ahead of
       // itself by a cell's smear each step.
-      const int down = neighbour(grid, i, j, k), up = neighbour(grid, i, j, k ^ 1);
+      const int down = nb[k], up = nb[k ^ 1];
       const double here = static_cast<double>(q), courant = u[k] * dt_s / d_;
       const double behind = up >= 0 ? here - static_cast<double>(flowing_[up]) : 0.0;
       const double ahead = down >= 0 ? static_cast<double>(flowing_[down]) - here : -here;
@@ -501,12 +506,11 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
       for (int k = 0; k < 4; ++k) out[k] = out[k] * q / total;
     for (int k = 0; k < 4; ++k) {
       if (out[k] == 0) continue;
-      const int nb = neighbour(grid, i, j, k);
-      if (nb == -2) continue;  // a face into a wall stands still (accelerate)
-      grid.transfer_quanta(c, nb, out[k], kEdgeOf[k]);
+      if (nb[k] == -2) continue;  // a face into a wall stands still (accelerate)
+      grid.transfer_quanta(c, nb[k], out[k], kEdgeOf[k]);
       (k < 2 ? x_sent_ : y_sent_)[faces[k]] += k % 2 == 0 ? out[k] : -out[k];
       new_flowing_.emplace_back(c, -out[k]);
-      if (nb >= 0) new_flowing_.emplace_back(nb, out[k]);
+      if (nb[k] >= 0) new_flowing_.emplace_back(nb[k], out[k]);
     }
   }
   for (const auto& [c, dq] : new_flowing_) flowing_[c] += dq;

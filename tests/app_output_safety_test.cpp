@@ -84,7 +84,7 @@ TEST(OutputSafety, LockstepRejectsAFarFutureTickAndEndsWhenNobodyAnswers) {
   const std::string url = "udpm://239.255.76.67:7689?ttl=0";
   const fs::path dir = fs::temp_directory_path() / "skidsim_lockstep_future";
   fs::remove_all(dir);
-  const std::string run = std::string(SKIDSIM_BINARY) + " run " + kScenario + " --mode lockstep --lcm '" + url +
+  const std::string run = std::string(SKIDSIM_BINARY) + " run " + kScenario + " --mode lockstep --session future --lcm '" + url +
                           "' --out " + dir.string() + " > " + (dir.string() + ".out") + " 2>&1; echo $? > " +
                           dir.string() + ".rc";
   fs::remove(dir.string() + ".rc");
@@ -103,11 +103,11 @@ TEST(OutputSafety, LockstepRejectsAFarFutureTickAndEndsWhenNobodyAnswers) {
       c.sim_step = s->step + 1000000000;  // far in the future
       c.drive_left = c.drive_right = 1.0;
       c.throttle = 1.0;
-      lcm->publish("SKIDSIM_CONTROL", &c);
+      lcm->publish("SKIDSIM_CONTROL@future", &c);
       *answered = true;
     }
   } handler{&lcm, &answered};
-  lcm.subscribe("SKIDSIM_STATE", &Handler::on_state, &handler);
+  lcm.subscribe("SKIDSIM_STATE@future", &Handler::on_state, &handler);
   const auto start = std::chrono::steady_clock::now();
   while (!answered && std::chrono::steady_clock::now() - start < std::chrono::seconds(30)) lcm.handleTimeout(100);
   ASSERT_TRUE(answered) << "the session published no state";

@@ -245,7 +245,7 @@ TEST(SkidsimRun, SiteSafetyScoresThePeopleOnSite) {
     ASSERT_TRUE(log.good());
     bool seen = false;
     while (const lcm::LogEvent* e = log.readNextEvent()) {
-      if (e->channel != "SKIDSIM_STATE") continue;
+      if (e->channel != "SKIDSIM_STATE@logged") continue;
       skidsim_lcm::state_t st;
       ASSERT_GE(st.decode(e->data, 0, e->datalen), 0);
       if (seen || st.sim_time_s < 12.0) continue;
@@ -441,9 +441,9 @@ TEST(SkidsimRun, LockstepOverLcmReproducesTheScriptedRunBitForBit) {
   for (int k = 0; k < 2; ++k) {
     const fs::path dir = fs::temp_directory_path() / ("skidsim_run_lockstep_" + std::to_string(k));
     fs::remove_all(dir);
-    const std::string op = std::string(SKIDSIM_BINARY) + " operator " + kScript + " --lcm '" + url + "' --idle-s 3";
+    const std::string op = std::string(SKIDSIM_BINARY) + " operator " + kScript + " --session lockstep --lcm '" + url + "' --idle-s 3";
     ASSERT_EQ(std::system((op + " > /dev/null 2>&1 &").c_str()), 0);
-    const auto r = run_skidsim("run " + kScenario + " --mode lockstep --lcm '" + url + "' --max-s 10 --out " + dir.string());
+    const auto r = run_skidsim("run " + kScenario + " --mode lockstep --session lockstep --lcm '" + url + "' --max-s 10 --out " + dir.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
     EXPECT_EQ(report["controls"]["watchdog_trips"], 0) << "every tick's command must arrive";
@@ -471,6 +471,79 @@ TEST(SkidsimRun, LockstepOverLcmReproducesTheScriptedRunBitForBit) {
   hash[2] = nlohmann::json::parse(std::ifstream(dir / "report.json"))["final_state_hash"];
   EXPECT_EQ(hash[0], hash[1]);
   EXPECT_EQ(hash[0], hash[2]) << "over LCM in lockstep the session is the in-process one";
+}
+
+// Two live sessions on one host and one provider, side by side (a centre's
+// trainees), each with its operator as a process of its own. With their own
+// names each hears only its operator: every command its log received came
+// from one sender, and each ends bit for bit as its script does in-process.
+// Given one name they cross, which the same check sees.
+TEST(SkidsimRun, TwoLiveSessionsOnOneHostNeverHearEachOther) {
+  const std::string url = "udpm://239.255.76.67:7691?ttl=0";
+  const std::string source = SKIDSIM_SOURCE_DIR;
+  const std::string exercises[2] = {kScenario, source + "/scenarios/driving_course.xml"};
+  const std::string scripts[2] = {kScript, source + "/scenarios/driving_course.operator.xml"};
+  std::string alone[2];
+  for (int k = 0; k < 2; ++k) {
+    const fs::path dir = fs::temp_directory_path() / ("skidsim_two_alone_" + std::to_string(k));
+    fs::remove_all(dir);
+    ASSERT_EQ(run_skidsim("run " + exercises[k] + " --script " + scripts[k] + " --max-s 10 --out " + dir.string()).exit_code, 0);
+    alone[k] = nlohmann::json::parse(std::ifstream(dir / "report.json"))["final_state_hash"];
+    fs::remove_all(dir);
+  }
+  // Both sessions and both operators at once; the senders each log heard.
+  auto side_by_side = [&](const std::string names[2], std::set<std::int64_t> senders[2], std::string hashes[2]) {
+    fs::path dirs[2];
+    for (int k = 0; k < 2; ++k) {
+      dirs[k] = fs::temp_directory_path() / ("skidsim_two_" + names[k] + "_" + std::to_string(k));
+      fs::remove_all(dirs[k]);
+      fs::remove(dirs[k].string() + ".rc");
+      const std::string op = std::string(SKIDSIM_BINARY) + " operator " + scripts[k] + " --session " + names[k] +
+                             " --lcm '" + url + "' --idle-s 5 > /dev/null 2>&1 &";
+      ASSERT_EQ(std::system(op.c_str()), 0);
+    }
+    for (int k = 0; k < 2; ++k) {
+      const std::string run = std::string(SKIDSIM_BINARY) + " run " + exercises[k] + " --mode lockstep --session " + names[k] +
+                              " --lcm '" + url + "' --max-s 10 --out " + dirs[k].string() + " > /dev/null 2>&1; echo $? > " +
+                              dirs[k].string() + ".rc";
+      ASSERT_EQ(std::system(("(" + run + ") &").c_str()), 0);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 0; k < 2; ++k) {
+      while (!fs::exists(dirs[k].string() + ".rc") && std::chrono::steady_clock::now() - start < std::chrono::seconds(240))
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      ASSERT_TRUE(fs::exists(dirs[k].string() + ".rc")) << names[k] << " did not end";
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the rc file written
+      lcm::LogFile log((dirs[k] / "session.lcmlog").string(), "r");
+      ASSERT_TRUE(log.good());
+      while (const lcm::LogEvent* e = log.readNextEvent()) {
+        skidsim_lcm::control_t m;
+        if (e->channel == "SKIDSIM_CONTROL" && m.decode(e->data, 0, e->datalen) >= 0) senders[k].insert(m.sender_id);
+      }
+      hashes[k] = nlohmann::json::parse(std::ifstream(dirs[k] / "report.json"))["final_state_hash"];
+      fs::remove_all(dirs[k]);
+      fs::remove(dirs[k].string() + ".rc");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5500));  // both operators stop (no more state)
+  };
+  {
+    const std::string names[2] = {"bay-1", "bay-2"};
+    std::set<std::int64_t> senders[2];
+    std::string hashes[2];
+    side_by_side(names, senders, hashes);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_EQ(senders[k].size(), 1u) << names[k] << " heard another session's operator";
+      EXPECT_EQ(hashes[k], alone[k]) << names[k] << " did not end as its script does alone";
+    }
+    EXPECT_NE(*senders[0].begin(), *senders[1].begin());
+  }
+  {
+    const std::string names[2] = {"same", "same"};
+    std::set<std::int64_t> senders[2];
+    std::string hashes[2];
+    side_by_side(names, senders, hashes);
+    EXPECT_TRUE(senders[0].size() > 1 || senders[1].size() > 1) << "one name: the check must see them cross";
+  }
 }
 
 // Lockstep with no operator answering: the session waits 5 s for the
@@ -505,8 +578,8 @@ TEST(SkidsimRun, LcmLoggerRecordsALiveSession) {
                              pid_path.string();
   ASSERT_EQ(std::system(logger.c_str()), 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // subscribed before the session starts
-  const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --lcm '" + url + "' --max-s 5 --out " +
-                             (dir / "run").string());
+  const auto r = run_skidsim("run " + kScenario + " --script " + kScript + " --session logged --lcm '" + url +
+                             "' --max-s 5 --out " + (dir / "run").string());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the logger flushes every 100 ms
   std::ifstream pid_file(pid_path);
   long pid = 0;
@@ -520,7 +593,7 @@ TEST(SkidsimRun, LcmLoggerRecordsALiveSession) {
   int states = 0;
   double last_t = -1.0;
   while (const lcm::LogEvent* e = log.readNextEvent()) {
-    if (e->channel != "SKIDSIM_STATE") continue;
+    if (e->channel != "SKIDSIM_STATE@logged") continue;
     skidsim_lcm::state_t s;
     ASSERT_GE(s.decode(e->data, 0, e->datalen), 0);
     EXPECT_GT(s.sim_time_s, last_t);

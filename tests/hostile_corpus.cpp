@@ -1461,7 +1461,7 @@ void add_cli_cases(Builder& b) {
        {"--width", "--height"}},
       {"batch", {"batch", "{DIR}/list.txt", "--jobs", "1", "--index", "1", "--out", "{DIR}/out"}, {"--jobs", "--index"},
        {"--jobs", "--index"}},
-      {"operator", {"operator", script, "--lcm", "memq://", "--idle-s", "0.3"}, {"--idle-s"}, {}},
+      {"operator", {"operator", script, "--lcm", "memq://", "--session", "corpus", "--idle-s", "0.3"}, {"--idle-s"}, {}},
   };
   struct V {
     const char* id;
