@@ -10,7 +10,7 @@
 
 #include "visual/contact_sheet.h"
 #include "report/review_html.h"
-#include "apps/run_job.h"
+#include "apps/view_job.h"
 #include "io/atomic_file.h"
 #include "io/json_file.h"
 
@@ -41,11 +41,6 @@ std::string text_at(const json& j, const char* key, const std::string& fallback)
   if (!j.is_object()) return fallback;
   const auto it = j.find(key);
   return it != j.end() && it->is_string() ? it->get<std::string>() : fallback;
-}
-
-std::string hash_of(const json& report) {
-  const auto it = report.find("final_state_hash");
-  return it != report.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
 std::string fps_text(double fps) {
@@ -168,65 +163,36 @@ std::vector<FoundSet> find_frame_sets(const fs::path& run, const json& report) {
   return sets;
 }
 
-// Replays the run with recording on and keeps the frames if the replay
-// reached the run's final state. Returns the exit code.
-int rerender(const ReviewJob& job, const fs::path& run, const json& report, std::string* frames_dir) {
-  RunJob r;
-  r.exercise_path = job.exercise_path;
-  if (r.exercise_path.empty()) {
-    const json& ex = report.contains("exercise") ? report["exercise"] : json();
-    for (const char* key : {"absolute_path", "file"})
-      if (ex.is_object() && ex.contains(key) && ex[key].is_string() && fs::exists(ex[key].get<std::string>())) {
-        r.exercise_path = ex[key].get<std::string>();
-        break;
-      }
-    if (r.exercise_path.empty())
-      throw io::InputError((run / "report.json").string() + ": the exercise it names is not there; give it with --exercise");
-  }
-  if (!fs::exists(run / "session.lcmlog")) throw io::InputError((run / "session.lcmlog").string() + ": no session log to replay");
-  r.replay_path = (run / "session.lcmlog").string();
-  r.out_dir = (run / ".review_replay").string();
-  r.record = true;
-  r.camera = job.camera;
-  r.frame_fps = job.fps;
-  r.frame_width = job.width;
-  r.frame_height = job.height;
-  r.render_backend = job.backend;
-  r.mode = "fast";
-  const int code = run_session(r);
+// Draws the run again from its log's scene stream (skidsim view, no
+// physics) and keeps the frames. Returns the exit code.
+int rerender(const ReviewJob& job, const fs::path& run, std::string* frames_dir) {
+  ViewJob v;
+  v.source = run.string();
+  v.exercise_path = job.exercise_path;
+  v.camera = job.camera;
+  v.fps = job.fps;
+  v.width = job.width;
+  v.height = job.height;
+  v.backend = job.backend;
+  v.out_dir = (run / ".review_view").string();
+  const int code = run_view(v);
   if (code != 0) return code;
-  const fs::path replay = r.out_dir;
-  const json replayed = read_json(replay / "report.json");
-  if (hash_of(report).empty()) {
-    fs::remove_all(replay);
-    throw io::InputError((run / "report.json").string() + ": no 'final_state_hash' to check a replay against");
-  }
-  if (hash_of(replayed) != hash_of(report)) {
-    fs::remove_all(replay);
-    std::cerr << "skidsim review: the replay ended in state " << hash_of(replayed) << ", the run in " << hash_of(report)
-              << ": not the same session (another build or exercise?); no frames kept\n";
-    return 1;
-  }
-  const json& rec = replayed["recording"];  // written by this build: its types are right
-  const std::string camera = rec.value("camera", std::string("chase"));
-  const double fps = rec.value("fps", 10.0);
+  const fs::path drawn = v.out_dir;
+  const json meta = read_json(drawn / "frames" / "frames.json");  // written by this build: its types are right
+  const std::string camera = meta.value("camera", std::string("chase"));
+  const double fps = meta.value("fps", 10.0);
   const fs::path target = run / ("frames_" + camera + "_" + fps_text(fps) + "fps");
-  io::write_text_atomically((replay / "frames" / "frames.json").string(),
-                            json{{"camera", camera}, {"fps", fps}, {"frames", rec.value("frames", 0)},
-                                 {"width", rec.value("width", 0)}, {"height", rec.value("height", 0)},
-                                 {"renderer", rec.value("renderer", std::string())}, {"replayed_hash", hash_of(replayed)}}
-                                .dump(2));
   // Swap in the new frames; an older set of the same name goes only after.
   const fs::path old = run / ".review_old_frames";
   fs::remove_all(old);
   if (fs::exists(target)) fs::rename(target, old);
-  fs::rename(replay / "frames", target);
-  if (fs::exists(replay / "session.mp4")) fs::rename(replay / "session.mp4", run / (target.filename().string() + ".mp4"));
+  fs::rename(drawn / "frames", target);
+  if (fs::exists(drawn / "session.mp4")) fs::rename(drawn / "session.mp4", run / (target.filename().string() + ".mp4"));
   fs::remove_all(old);
-  fs::remove_all(replay);
+  fs::remove_all(drawn);
   *frames_dir = target.filename().string();
-  std::cout << "re-rendered " << rec.value("frames", 0) << " frames from the " << camera << " camera at " << fps_text(fps)
-            << " fps into " << target.string() << " (replay reached the run's state " << hash_of(report) << ")\n";
+  std::cout << "re-rendered " << meta.value("frames", 0) << " frames from the " << camera << " camera at " << fps_text(fps)
+            << " fps into " << target.string() << " (drawn from the log's scene stream)\n";
   return 0;
 }
 
@@ -241,7 +207,7 @@ int review_session(const ReviewJob& job) {
   if (job.width < 0 || job.height < 0) throw io::InputError("--width / --height: expected 16 to 8192 pixels");
   std::string rendered;  // the frames just re-rendered, if any
   if (!job.camera.empty() || job.fps > 0.0 || job.width > 0 || job.height > 0) {
-    const int code = rerender(job, run, report, &rendered);
+    const int code = rerender(job, run, &rendered);
     if (code != 0) return code;
   }
   const std::vector<FoundSet> found = find_frame_sets(run, report);

@@ -1,13 +1,12 @@
 // `skidsim review RUN_DIR`: the review page (review.html) and a contact
 // sheet (contact_sheet.png) of a run directory. With --camera or --fps it
-// first renders the session again: the run's session.lcmlog replayed
-// through the simulator (deterministic, so the same session: the replay's
-// final state hash must equal the run's, or nothing is kept) with frames
-// from that camera at that rate, into RUN_DIR/frames_<camera>_<fps>fps.
-// The log is checked whole, and against the exercise, before the replay
-// (session/session_replay.h): a damaged one, or one of another exercise, is
-// refused (exit 2). Frames missing from a set (a gap in frame_NNNNNN.png,
-// or fewer than were recorded) are named on stderr and on the page.
+// first draws the session again from its session.lcmlog's scene stream, as
+// skidsim view does (apps/view_job.h; no physics), from that camera at that
+// rate, into RUN_DIR/frames_<camera>_<fps>fps. The log is checked whole,
+// and against the exercise, first (session/session_replay.h): a damaged
+// one, or one of another exercise, is refused (exit 2). Frames missing from
+// a set (a gap in frame_NNNNNN.png, or fewer than were recorded) are named
+// on stderr and on the page.
 #pragma once
 
 #include <string>
@@ -23,8 +22,8 @@ struct ReviewJob {
   std::string exercise_path;      // empty: the one report.json names
 };
 
-// 0 when the page was written, 1 when a re-render diverged from the run,
-// 2 for bad input (a run directory without report.json, a bad camera).
+// 0 when the page was written, 2 for bad input (a run directory without
+// report.json, a bad camera, a damaged log).
 int review_session(const ReviewJob& job);
 
 }  // namespace skidsim::apps

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <vector>
 #include <iostream>
 #include <memory>
@@ -22,6 +23,7 @@
 #include "report/report_html.h"
 #include "jobs/run_directory.h"
 #include "visual/scene_snapshot.h"
+#include "visual/scene_view.h"
 #include "session/session.h"
 #include "session/session_replay.h"
 #include "session/session_tasks.h"
@@ -53,11 +55,8 @@ using session::kStepsPerTick;
 using session::session_identity;
 using session::write_session_header;
 using visual::FrameRecorder;
-using visual::SceneHistory;
+using visual::SceneView;
 using visual::encode_video;
-using visual::exercise_camera;
-using visual::static_scene;
-using visual::update_scene;
 namespace {
 
 using nlohmann::json;
@@ -101,16 +100,22 @@ struct LogAndLcm : SessionOutput {
     log_message(log, channels.terrain, m, t);
     if (bridge) bridge->publish_terrain_tile(m);
   }
+  // The scene stream: into the log, over LCM, and to the recording, which
+  // draws from it as any view does.
+  void scene(const skidsim_lcm::scene_t& m, double t) override {
+    log_message(log, channels.scene, m, t);
+    if (bridge) bridge->publish_scene(m);
+    if (on_scene) on_scene(m);
+  }
+  std::function<void(const skidsim_lcm::scene_t&)> on_scene;
 };
 
-// Recording: a snapshot of the scene at each frame's time (between control
-// ticks, 100 a second), handed to the recorder's thread.
+// Recording: the scene stream drawn as skidsim view draws it (the frame due
+// at each scene message, 50 a second), handed to the recorder's thread.
 class SessionRecording {
  public:
   SessionRecording(const RunJob& job, const io::Exercise& ex, engine::World& world, const std::filesystem::path& staging)
-      : ex_(ex),
-        world_(world),
-        camera_(job.camera.empty() ? ex.recording.camera : job.camera),
+      : camera_(job.camera.empty() ? ex.recording.camera : job.camera),
         fps_(job.frame_fps > 0.0 ? job.frame_fps : ex.recording.fps),
         width_(job.frame_width > 0 ? job.frame_width : ex.recording.width),
         height_(job.frame_height > 0 ? job.frame_height : ex.recording.height) {
@@ -120,25 +125,21 @@ class SessionRecording {
     if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")
       throw io::InputError("--render-backend '" + job.render_backend + "': expected auto, egl or osmesa");
     try {
-      (void)exercise_camera(camera_, ex, world);
+      view_ = std::make_unique<SceneView>(ex, world, camera_, fps_);
     } catch (const std::invalid_argument& e) {
       throw io::InputError(std::string("--camera: ") + e.what());
     }
     std::filesystem::create_directories(staging / "frames");
-    scene_ = static_scene(ex, world);
-    if (world.terrain()) world.terrain()->record_flow(true);  // for the sand's moving texture; the state is untouched
     try {
       recorder_ = std::make_unique<FrameRecorder>((staging / "frames").string(), width_, height_, job.render_backend);
     } catch (const std::runtime_error& e) {  // no OpenGL: refused before the session starts
       throw io::InputError(std::string("--record: ") + e.what());
     }
   }
-  // Between a tick's books and its steps: a frame when one is due.
-  void at_tick() {
-    if (world_.time_s() < next_frame_s_ - 1e-9) return;
-    update_scene(world_, scene_, &history_);
-    recorder_->submit(scene_, exercise_camera(camera_, ex_, world_));
-    next_frame_s_ += 1.0 / fps_;
+  // Each scene message (25 a second): the frames due, drawn from the stream
+  // as skidsim view draws them.
+  void on_scene(const skidsim_lcm::scene_t& m) {
+    for (int k = view_->apply(m); k > 0; --k) recorder_->submit(view_->scene(), view_->camera());
   }
   // The recorder's last frames written, the video encoded: the report's part.
   json finish(const std::filesystem::path& staging) {
@@ -150,15 +151,11 @@ class SessionRecording {
   }
 
  private:
-  const io::Exercise& ex_;
-  engine::World& world_;
   std::string camera_;
   double fps_;
   int width_, height_;
   std::unique_ptr<FrameRecorder> recorder_;
-  render::Scene scene_;
-  SceneHistory history_;
-  double next_frame_s_ = 0.0;
+  std::unique_ptr<SceneView> view_;
 };
 
 // The operator over LCM: the newest valid command (realtime), or the one
@@ -279,6 +276,7 @@ int run_session(const RunJob& job) {
   options.limit_s = job.max_s;
   options.stop_at_step = replay_end_step;
   options.terrain_tiles = job.terrain_tiles;
+  options.scene_stream = true;
   Session session(ex, loader, soils, options);
   engine::World& world = session.world();
   StagedRunDirectory run_dir(job.out_dir, "run");
@@ -291,7 +289,10 @@ int run_session(const RunJob& job) {
   LogAndLcm output(log, bridge.get(), channels, mode != "lockstep");
 
   std::unique_ptr<SessionRecording> recording;
-  if (job.record) recording = std::make_unique<SessionRecording>(job, ex, world, run_dir.staging());
+  if (job.record) {
+    recording = std::make_unique<SessionRecording>(job, ex, world, run_dir.staging());
+    output.on_scene = [&](const skidsim_lcm::scene_t& m) { recording->on_scene(m); };
+  }
 
   // Each tick's controls: a replay's, the script's, or the operator's over LCM.
   std::unique_ptr<LcmOperator> live;
@@ -316,9 +317,7 @@ int run_session(const RunJob& job) {
   const auto wall_start = std::chrono::steady_clock::now();
   std::string end_reason;
   while (end_reason.empty()) {
-    end_reason = session.tick(!player && input.neutral(), decide, output, [&] {
-      if (recording) recording->at_tick();
-    });
+    end_reason = session.tick(!player && input.neutral(), decide, output);
     if (mode == "realtime") std::this_thread::sleep_until(wall_start + std::chrono::duration<double>(world.time_s()));
     progress.update(world.time_s(), session.tasks().tasks().empty() ? "" : session.tasks().tasks().front().detail);
   }

@@ -17,6 +17,7 @@
 #include "apps/operator_job.h"
 #include "apps/render_job.h"
 #include "apps/review_job.h"
+#include "apps/view_job.h"
 #include "apps/batch_job.h"
 #include "report/perf_report.h"
 #include "apps/run_job.h"
@@ -218,6 +219,7 @@ struct Commands {
   skidsim::apps::RunJob run{};
   skidsim::apps::RenderJob render_job{};
   skidsim::apps::ReviewJob review_job{};
+  skidsim::apps::ViewJob view_job{};
   skidsim::apps::BatchJob batch_job{};
   skidsim::apps::OperatorJob operator_job{};
   bool bench_json = false;
@@ -235,6 +237,7 @@ struct Commands {
   CLI::App* run_cmd = nullptr;
   CLI::App* render_cmd = nullptr;
   CLI::App* review_cmd = nullptr;
+  CLI::App* view_cmd = nullptr;
   CLI::App* batch_cmd = nullptr;
   CLI::App* operator_cmd = nullptr;
   CLI::App* bench_cmd = nullptr;
@@ -346,6 +349,18 @@ void add_session_tools(CLI::App& app, Commands& c) {
   c.review_cmd->add_option("--backend", c.review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
   c.review_cmd->add_option("--exercise", c.review_job.exercise_path, "The exercise file (default: the one report.json names)");
 
+  c.view_cmd = app.add_subcommand(
+      "view", "Draw a session from its scene stream without running the physics: frames from a camera at a\n"
+              "rate, from a run directory's session.lcmlog, the pixels `run --record` draws (view_<camera>_<fps>fps)");
+  c.view_cmd->add_option("source", c.view_job.source, "Run directory (of skidsim run), or a session.lcmlog with --exercise")->required();
+  c.view_cmd->add_option("--camera", c.view_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
+  c.view_cmd->add_option("--fps", c.view_job.fps, "Frames a second (default: the exercise's)")->check(number_in(0.1, 100.0));
+  c.view_cmd->add_option("--width", c.view_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  c.view_cmd->add_option("--height", c.view_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  c.view_cmd->add_option("--backend", c.view_job.backend, "auto, egl or osmesa")->capture_default_str();
+  c.view_cmd->add_option("--exercise", c.view_job.exercise_path, "The exercise file (default: the one report.json names)");
+  c.view_cmd->add_option("--out", c.view_job.out_dir, "Where the frames go (default: RUN_DIR/view_<camera>_<fps>fps)");
+
   c.batch_cmd = app.add_subcommand(
       "batch", "Run many sessions at once, each `skidsim run` of a line of LIST (its arguments; each needs\n"
                "--script or --replay), at most --jobs at a time, each into OUT/NNN_exercise; then batch.json");
@@ -414,6 +429,7 @@ int run_command(const Commands& c) {
   if (*c.operator_cmd) return skidsim::apps::run_operator(c.operator_job);
   if (*c.render_cmd) return skidsim::apps::render_frame(c.render_job);
   if (*c.review_cmd) return skidsim::apps::review_session(c.review_job);
+  if (*c.view_cmd) return skidsim::apps::run_view(c.view_job);
   if (*c.batch_cmd) return skidsim::apps::run_batch(c.batch_job);
   if (*c.report_cmd) return skidsim::report::write_perf_report(c.report_job);
   if (*c.bench_cmd) return run_bench(c.bench_json, c.bench_filter, c.bench_min_time, c.bench_out);

@@ -461,6 +461,8 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         if (o.channel.empty()) a.fail("attribute 'channel' must not be empty");
         if (o.channel.find('@') != std::string::npos)
           a.fail("attribute 'channel' must not contain '@' (a live session adds '@' and its name)");
+        if (o.channel.size() > 30)
+          a.fail("attribute 'channel' must be at most 30 characters (with '@' and a session's name, within LCM's 63)");
         o.watchdog_s = a.has("watchdog_ms") ? a.number_in("watchdog_ms", 10.0, 10000.0) / 1000.0 : o.watchdog_s;
       } else if (source == "script") {
         o.kind = OperatorSource::Kind::kScript;

@@ -11,19 +11,19 @@ namespace skidsim::io {
 LcmChannels session_channels(const std::string& session, const std::string& control) {
   LcmChannels c;
   c.control = control;
-  for (std::string* name : {&c.control, &c.state, &c.events, &c.terrain}) *name = bare_channel(*name) + "@" + session;
+  for (std::string* name : {&c.control, &c.state, &c.events, &c.terrain, &c.scene}) *name = bare_channel(*name) + "@" + session;
   return c;
 }
 
 void check_session_name(const std::string& name, const std::string& option) {
-  const bool ok = !name.empty() && name.size() <= 64 && name.find_first_not_of(
+  const bool ok = !name.empty() && name.size() <= 32 && name.find_first_not_of(
       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") == std::string::npos;
-  if (!ok) throw InputError(option + " '" + name + "': expected 1 to 64 of A-Z a-z 0-9 . _ -");
+  if (!ok) throw InputError(option + " '" + name + "': expected 1 to 32 of A-Z a-z 0-9 . _ -");
 }
 
 std::string default_session_name(const std::string& exercise_name) {
   std::string base;
-  for (char ch : exercise_name.substr(0, 40)) {
+  for (char ch : exercise_name.substr(0, 24)) {
     const bool keep = (ch >= 'A' && ch <= 'Z') || (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '.' || ch == '_';
     base += keep ? ch : '-';
   }
@@ -88,5 +88,7 @@ void LcmBridge::publish_state(const skidsim_lcm::state_t& state) { lcm_->publish
 void LcmBridge::publish_event(const skidsim_lcm::event_t& event) { lcm_->publish(channels_.events, &event); }
 
 void LcmBridge::publish_terrain_tile(const skidsim_lcm::terrain_tile_t& tile) { lcm_->publish(channels_.terrain, &tile); }
+
+void LcmBridge::publish_scene(const skidsim_lcm::scene_t& scene) { lcm_->publish(channels_.scene, &scene); }
 
 }  // namespace skidsim::io

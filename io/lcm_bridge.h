@@ -13,6 +13,7 @@
 
 #include "io/control_input.h"
 #include "skidsim_lcm/event_t.hpp"
+#include "skidsim_lcm/scene_t.hpp"
 #include "skidsim_lcm/state_t.hpp"
 #include "skidsim_lcm/terrain_tile_t.hpp"
 
@@ -25,6 +26,7 @@ struct LcmChannels {
   std::string state = "SKIDSIM_STATE";
   std::string events = "SKIDSIM_EVENTS";
   std::string terrain = "SKIDSIM_TERRAIN";  // optional: terrain_tile_t
+  std::string scene = "SKIDSIM_SCENE";      // scene_t: what a view draws (docs/rendering.md)
 };
 
 // A live session's own channels: each base name, "@" and the session's name
@@ -35,8 +37,9 @@ struct LcmChannels {
 // holds one session; bare_channel).
 LcmChannels session_channels(const std::string& session, const std::string& control = LcmChannels{}.control);
 inline std::string bare_channel(const std::string& channel) { return channel.substr(0, channel.find('@')); }
-// A session name is 1 to 64 of A-Z a-z 0-9 . _ - (it goes into channel
-// names and file names); io::InputError naming `option` otherwise.
+// A session name is 1 to 32 of A-Z a-z 0-9 . _ - (it goes into channel
+// names, which LCM keeps under 64 bytes, and file names); io::InputError
+// naming `option` otherwise.
 void check_session_name(const std::string& name, const std::string& option);
 // The name a live session takes unless it is given one, unique on this
 // host: its exercise's name (other characters as '-') and this process's id.
@@ -71,6 +74,7 @@ class LcmBridge {
   void publish_state(const skidsim_lcm::state_t& state);
   void publish_event(const skidsim_lcm::event_t& event);
   void publish_terrain_tile(const skidsim_lcm::terrain_tile_t& tile);
+  void publish_scene(const skidsim_lcm::scene_t& scene);
   lcm::LCM& lcm() { return *lcm_; }
 
  private:

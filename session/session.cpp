@@ -34,6 +34,7 @@ Session::Session(const io::Exercise& exercise, const vehicle::LoaderDescription&
   // changed, every kStepsPerTiles and at the end (so the log rebuilds the
   // final surface).
   if (options.terrain_tiles && world_->terrain()) tiles_ = std::make_unique<TerrainTiles>(*world_->terrain());
+  if (options.scene_stream && world_->terrain()) world_->terrain()->record_flow(true);  // the state is untouched
   controls_.parking_brake = true;
   // Reserved: no reallocation in the loop.
   for (auto& series : timeline_)
@@ -101,7 +102,13 @@ void Session::keep_books(const skidsim_lcm::state_t& state, const TickDecision& 
                                          worst_slip};
     for (std::size_t k = 0; k < kSeriesCount; ++k) timeline_[k].push_back(sample[k]);
   }
-  if (step % kStepsPerState == 0) out.state(state, t);
+  if (step % kStepsPerState == 0) {
+    out.state(state, t);
+    if (options_.scene_stream && step % kStepsPerScene == 0) {
+      visual::capture_frame(w, scene_frame_);
+      out.scene(scene_writer_.encode(scene_frame_), t);
+    }
+  }
 }
 
 void Session::send_events(long step, double t, SessionOutput& out) {

@@ -29,12 +29,14 @@
 #include "skidsim_lcm/state_t.hpp"
 #include "skidsim_lcm/terrain_tile_t.hpp"
 #include "vehicle/loader_description.h"
+#include "visual/scene_stream.h"
 
 namespace skidsim::session {
 
 // A session's cadences, in 2 ms world steps.
 inline constexpr int kStepsPerTick = 5;      // controls every 10 ms
 inline constexpr int kStepsPerState = 10;    // the state message at 50 Hz
+inline constexpr int kStepsPerScene = 20;    // the scene stream (when asked for) at 25 Hz
 inline constexpr int kStepsPerSample = 100;  // the report's timeline at 5 Hz
 inline constexpr int kStepsPerTiles = 250;   // terrain tiles (when asked for) at 2 Hz
 
@@ -45,6 +47,8 @@ struct SessionOutput {
   virtual void event(const skidsim_lcm::event_t&, double /*t_s*/) {}
   virtual void state(const skidsim_lcm::state_t&, double /*t_s*/) {}
   virtual void tile(const skidsim_lcm::terrain_tile_t&, double /*t_s*/) {}
+  // The scene stream (SessionOptions::scene_stream), with the state.
+  virtual void scene(const skidsim_lcm::scene_t&, double /*t_s*/) {}
 };
 
 // A tick's controls, or why the session ends at it: `end_now` before the
@@ -62,6 +66,10 @@ struct SessionOptions {
   double limit_s = 0.0;      // 0: the exercise's time limit
   long stop_at_step = -1;    // a replay: the step its recording ended at (-1: none)
   bool terrain_tiles = false;
+  // The scene stream (visual/scene_stream.h) with every second state
+  // message: what a view needs to draw the session; the soil's flow record
+  // is kept for it.
+  bool scene_stream = false;
 };
 
 class Session {
@@ -106,6 +114,8 @@ class Session {
   std::int64_t seq_ = 0;
   vehicle::LoaderControls controls_;  // held between ticks
   std::vector<std::vector<double>> timeline_;
+  visual::SceneFrame scene_frame_;
+  visual::SceneStreamWriter scene_writer_;
 };
 
 // A script played in-process: each tick's controls from its player; once it

@@ -144,6 +144,19 @@ void write_session_header(lcm::LogFile& log, const SessionIdentity& identity) {
   if (log.writeEvent(&e) != 0) throw io::InputError("cannot write the LCM log's header");
 }
 
+std::vector<io::LcmLogEvent> load_scene_events(const std::string& path, const SessionIdentity& identity) {
+  const std::string scene = io::LcmChannels{}.scene;
+  io::LcmLog log = io::read_lcm_log(path, [&](const std::string& ch) { return ch == kSessionChannel || ch == scene; });
+  if (log.kept.empty() || log.kept.front().index != 0 || log.kept.front().channel != kSessionChannel)
+    throw io::InputError(path + ": no " + kSessionChannel + " header as its first event: it cannot be checked against " +
+                         identity.files.front().path + ", so it is not drawn");
+  check_header(parse_header(log.kept.front(), path), identity, path);
+  log.kept.erase(log.kept.begin());
+  if (log.kept.empty())
+    throw io::InputError(path + ": no scene messages on " + scene + " (a log written before sessions recorded the scene stream)");
+  return std::move(log.kept);
+}
+
 Replay load_replay(const std::string& path, const io::Exercise& ex, const SessionIdentity& identity, int steps_per_tick) {
   const std::string applied = ex.operator_source.channel + "_APPLIED";
   const std::string events = io::LcmChannels{}.events;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "io/exercise.h"
+#include "io/lcm_log.h"
 #include "vehicle/loader_description.h"
 #include "vehicle/powertrain.h"
 
@@ -67,5 +68,10 @@ struct Replay {
 // reach. Anything else: io::InputError naming the file and, for an event,
 // its byte and index.
 Replay load_replay(const std::string& path, const io::Exercise& ex, const SessionIdentity& identity, int steps_per_tick);
+
+// Checks the log and its header against `identity` as load_replay does, then
+// returns its scene stream's messages (SKIDSIM_SCENE, still encoded) in
+// order; io::InputError when there are none.
+std::vector<io::LcmLogEvent> load_scene_events(const std::string& path, const SessionIdentity& identity);
 
 }  // namespace skidsim::session

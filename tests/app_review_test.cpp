@@ -1,7 +1,8 @@
 // skidsim review: the review page in a real browser (headless Chromium,
 // installed by the setup step): it loads without script errors, the
 // scrubber moves the frame and every plot's marker together; the contact
-// sheet; re-rendering a session from another camera by replaying its log.
+// sheet; re-rendering a session from another camera from its log's scene
+// stream.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -125,29 +126,28 @@ TEST(SkidsimReview, PageWorksInABrowserAndReRendersFromAnotherCamera) {
                    screenshot.rgb[k + 2]);
   EXPECT_GT(colours.size(), 200u);
 
-  // Re-rendered from above at 5 fps by replaying the log: the same session
-  // (same final state), 30 frames, offered on the page beside the chase set.
+  // Re-rendered from above at 5 fps from the log's scene stream (no
+  // physics): 30 frames, offered on the page beside the chase set.
   const auto again = run_skidsim("review " + run.string() + " --camera aerial --fps 5 --width 160 --height 90 --backend osmesa");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   const fs::path aerial = run / "frames_aerial_5fps";
   const nlohmann::json meta = nlohmann::json::parse(std::ifstream(aerial / "frames.json"));
   EXPECT_EQ(meta["frames"], 30);
-  EXPECT_EQ(meta["replayed_hash"], report["final_state_hash"]);
+  EXPECT_GE(meta["scene_messages"].get<int>(), 149);  // 6 s at 25 a second
   EXPECT_TRUE(fs::exists(aerial / "frame_000029.png"));
   EXPECT_NE(skidsim::io::read_png_rgb8((aerial / "frame_000010.png").string()).rgb,
             skidsim::io::read_png_rgb8((run / "frames" / "frame_000020.png").string()).rgb)
       << "another camera, another picture";
   EXPECT_NE(slurp(html).find("frames_aerial_5fps"), std::string::npos);
-  EXPECT_FALSE(fs::exists(run / ".review_replay"));
+  EXPECT_FALSE(fs::exists(run / ".review_view"));
 
-  // A report whose state the replay does not reach: refused, nothing kept.
-  nlohmann::json forged = report;
-  forged["final_state_hash"] = "0000000000000000";
-  std::ofstream(run / "report.json") << forged.dump();
-  const auto diverged = run_skidsim("review " + run.string() + " --camera cab --fps 2 --width 160 --height 90 --backend osmesa");
-  EXPECT_EQ(diverged.exit_code, 1) << diverged.output;
-  EXPECT_NE(diverged.output.find("not the same session"), std::string::npos) << diverged.output;
+  // A damaged log: refused, nothing kept.
+  fs::resize_file(run / "session.lcmlog", fs::file_size(run / "session.lcmlog") - 7);
+  const auto damaged = run_skidsim("review " + run.string() + " --camera cab --fps 2 --width 160 --height 90 --backend osmesa");
+  EXPECT_EQ(damaged.exit_code, 2) << damaged.output;
+  EXPECT_NE(damaged.output.find("session.lcmlog"), std::string::npos) << damaged.output;
   EXPECT_FALSE(fs::exists(run / "frames_cab_2fps"));
+  EXPECT_FALSE(fs::exists(run / ".review_view"));
 }
 
 // Frames lost from a recording (a copy that failed, a frame deleted by
@@ -221,6 +221,66 @@ TEST(SkidsimReview, BadRunDirectoriesAndCamerasAreRefused) {
     r = run_skidsim("review " + none.string() + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.output;
   }
+}
+
+}  // namespace
+
+namespace {
+
+std::string bytes_of(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The visual channel as a process of its own: `skidsim view` draws a run
+// from its log's scene stream, without the physics, and gets the run's own
+// recording pixel for pixel (both draw the stream; one renderer). It draws
+// another camera as well, and refuses a log of another exercise.
+TEST(SkidsimView, DrawsARunsLogAsTheRunsRecordingDidPixelForPixel) {
+  const fs::path run = fs::temp_directory_path() / "skidsim_view_run";
+  fs::remove_all(run);
+  const auto r = run_skidsim("run " + kScenario + " --script " + kScript +
+                             " --max-s 12 --record --fps 5 --frame-width 96 --frame-height 54 --render-backend osmesa --out " +
+                             run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path out = fs::temp_directory_path() / "skidsim_view_out";
+  fs::remove_all(out);
+  const auto v = run_skidsim("view " + run.string() + " --fps 5 --width 96 --height 54 --backend osmesa --out " + out.string());
+  ASSERT_EQ(v.exit_code, 0) << v.output;
+  int frames = 0, differ = 0;
+  for (int k = 0;; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    const bool recorded = fs::exists(run / "frames" / name), viewed = fs::exists(out / "frames" / name);
+    EXPECT_EQ(recorded, viewed) << name;
+    if (!recorded || !viewed) break;
+    ++frames;
+    differ += bytes_of(run / "frames" / name) != bytes_of(out / "frames" / name);
+  }
+  std::printf("[ measured ] %d frames drawn from the log, %d differ from the run's recording\n", frames, differ);
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(run / "report.json"));
+  EXPECT_EQ(frames, report["recording"]["frames"].get<int>());
+  EXPECT_GE(frames, 59);  // 12 s at 5 fps
+  EXPECT_EQ(differ, 0);
+  const nlohmann::json meta = nlohmann::json::parse(std::ifstream(out / "frames" / "frames.json"));
+  EXPECT_EQ(meta["frames"], frames);
+  EXPECT_GE(meta["scene_messages"].get<int>(), 299);  // 12 s at 25 a second
+
+  const fs::path aerial = fs::temp_directory_path() / "skidsim_view_aerial";
+  fs::remove_all(aerial);
+  ASSERT_EQ(run_skidsim("view " + run.string() + " --camera aerial --fps 2 --width 64 --height 36 --backend osmesa --out " +
+                        aerial.string())
+                .exit_code,
+            0);
+  EXPECT_TRUE(fs::exists(aerial / "frames" / "frame_000023.png"));  // 0 to 11.5 s at 2 fps
+  EXPECT_FALSE(fs::exists(aerial / "frames" / "frame_000024.png"));
+
+  const auto other = run_skidsim("view " + run.string() + " --exercise " + std::string(SKIDSIM_SOURCE_DIR) +
+                                 "/scenarios/driving_course.xml --out " + (aerial.string() + "_other"));
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find("was recorded from exercise"), std::string::npos) << other.output;
+  EXPECT_FALSE(fs::exists(aerial.string() + "_other"));
+  for (const fs::path& p : {run, out, aerial}) fs::remove_all(p);
 }
 
 }  // namespace

@@ -245,7 +245,7 @@ TEST(SkidsimRun, SiteSafetyScoresThePeopleOnSite) {
     ASSERT_TRUE(log.good());
     bool seen = false;
     while (const lcm::LogEvent* e = log.readNextEvent()) {
-      if (e->channel != "SKIDSIM_STATE@logged") continue;
+      if (e->channel != "SKIDSIM_STATE") continue;
       skidsim_lcm::state_t st;
       ASSERT_GE(st.decode(e->data, 0, e->datalen), 0);
       if (seen || st.sim_time_s < 12.0) continue;

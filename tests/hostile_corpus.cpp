@@ -1461,6 +1461,9 @@ void add_cli_cases(Builder& b) {
        {"--width", "--height"}},
       {"batch", {"batch", "{DIR}/list.txt", "--jobs", "1", "--index", "1", "--out", "{DIR}/out"}, {"--jobs", "--index"},
        {"--jobs", "--index"}},
+      {"view", {"view", "{DIR}/run", "--fps", "2", "--width", "64", "--height", "36", "--out", "{DIR}/out"},
+       {"--fps", "--width", "--height"},
+       {"--width", "--height"}},
       {"operator", {"operator", script, "--lcm", "memq://", "--session", "corpus", "--idle-s", "0.3"}, {"--idle-s"}, {}},
   };
   struct V {

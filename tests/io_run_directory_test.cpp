@@ -134,7 +134,9 @@ TEST_F(RunDirectory, AKillAtEveryPointOfTheSwapLeavesOldOrNew) {
     ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
     const bool is_old = holds_complete_run(target, "old"), is_new = holds_complete_run(target, "new");
     EXPECT_TRUE(is_old || is_new) << "killed at point " << static_cast<int>(kill_at);
-    if (kill_at >= CommitPoint::kSwapped) EXPECT_TRUE(is_new);
+    if (kill_at >= CommitPoint::kSwapped) {
+      EXPECT_TRUE(is_new);
+    }
     // The next run cleans up the killed one's staging or set-aside folder.
     StagedRunDirectory next(target.string(), "test");
     write_run(next.staging(), "next");

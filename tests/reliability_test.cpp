@@ -163,7 +163,7 @@ bool nonempty_file(const fs::path& p) {
 }
 
 // What a complete result is, per command.
-enum class Result { kNone, kCheckJson, kRunDir, kPourDir, kPushDir, kDigDir, kPng, kReviewDir, kBatchDir };
+enum class Result { kNone, kCheckJson, kRunDir, kPourDir, kPushDir, kDigDir, kPng, kReviewDir, kBatchDir, kViewDir };
 
 std::string incomplete(Result kind, const fs::path& p, const std::string& stdout_text) {
   const auto need = [&](std::initializer_list<const char*> files) -> std::string {
@@ -211,6 +211,10 @@ std::string incomplete(Result kind, const fs::path& p, const std::string& stdout
       return s.size() > 8 && s.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 ? "" : "not a PNG";
     }
     case Result::kReviewDir: return need({"review.html", "contact_sheet.png"});
+    case Result::kViewDir: {
+      if (const std::string m = need({"frames/frames.json", "frames/frame_000000.png"}); !m.empty()) return m;
+      return parse_json_file(p / "frames" / "frames.json").is_discarded() ? "frames.json does not parse" : "";
+    }
     case Result::kBatchDir: {
       std::error_code ec;
       for (const auto& e : fs::directory_iterator(p, ec)) {
@@ -279,6 +283,7 @@ Result result_of(const std::string& subcommand) {
   if (subcommand == "render") return Result::kPng;
   if (subcommand == "review") return Result::kReviewDir;
   if (subcommand == "batch") return Result::kBatchDir;
+  if (subcommand == "view") return Result::kViewDir;
   return Result::kNone;
 }
 

@@ -23,15 +23,6 @@ constexpr double kNoiseDriftMS = 0.5;             // the noise space's drift (se
 
 }  // namespace
 
-double ground_height_m(const engine::World& world, const Eigen::Vector3d& at) {
-  if (const terrain::GranularGrid* g = world.terrain()) {
-    const int i = static_cast<int>(std::lround((at.x() - g->spec().origin_m.x()) / g->cell_size_m()));
-    const int j = static_cast<int>(std::lround((at.y() - g->spec().origin_m.y()) / g->cell_size_m()));
-    if (g->contains(i, j)) return g->surface_m(i, j);
-  }
-  return 0.0;
-}
-
 DustSystem::DustSystem(std::uint64_t seed, std::size_t capacity) : noise_(seed), state_(seed), capacity_(capacity) {
   puffs_.reserve(capacity);
 }
@@ -56,16 +47,17 @@ void DustSystem::spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocit
   puffs_.push_back(p);
 }
 
-void DustSystem::advance(const engine::World& world, const std::vector<Eigen::Vector2f>* ground_flow_m_s, double dt_s) {
+void DustSystem::advance(const SceneLayout& layout, const SceneFrame& frame, const std::vector<Eigen::Vector2f>* ground_flow_m_s,
+                         double dt_s) {
   if (!(dt_s > 0.0)) return;
   time_s_ += dt_s;
   budget_ = std::min(budget_ + kMaxNewPuffsPerS * dt_s, kMaxNewPuffsPerS * 0.2);
   // Parcels about to land raise dust radially, faster and more of it the
   // higher they fell; parcels just off their body raise a little.
-  if (const terrain::MaterialExchange* x = world.material()) {
-    const double quantum_kg = world.terrain() ? world.terrain()->quantum_mass_kg() : 0.0;
-    for (const terrain::FallingParcel& p : x->parcels()) {
-      const double ground = ground_height_m(world, p.position_m), above = p.position_m.z() - ground;
+  {
+    const double quantum_kg = layout.quantum_mass_kg;
+    for (const FrameParcel& p : frame.parcels) {
+      const double ground = ground_height_m(frame, p.position_m), above = p.position_m.z() - ground;
       const double vz = p.velocity_m_s.z();
       if (vz < 0.0 && above <= -vz * dt_s + 0.02) {
         const double fall_m = vz * vz / (2.0 * kGravity_m_s2) + std::max(0.0, above);
@@ -84,14 +76,14 @@ void DustSystem::advance(const engine::World& world, const std::vector<Eigen::Ve
     }
   }
   // Fast avalanches on the ground.
-  if (ground_flow_m_s && world.terrain()) {
-    const terrain::GranularGrid& g = *world.terrain();
-    for (int j = 0; j < g.ny(); ++j)
-      for (int i = 0; i < g.nx(); ++i) {
-        const Eigen::Vector2f& v = (*ground_flow_m_s)[static_cast<std::size_t>(g.index(i, j))];
+  if (ground_flow_m_s && frame.has_ground) {
+    const FrameField& g = frame.ground;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i) {
+        const auto c = static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(i);
+        const Eigen::Vector2f& v = (*ground_flow_m_s)[c];
         if (v.norm() < kAvalancheSpeedMS || uniform() > kAvalanchePuffsPerCellS * dt_s) continue;
-        const Eigen::Vector3d at(g.spec().origin_m.x() + i * g.cell_size_m(), g.spec().origin_m.y() + j * g.cell_size_m(),
-                                 g.surface_m(i, j) + 0.03);
+        const Eigen::Vector3d at = g.pose * Eigen::Vector3d(i * g.cell_m, j * g.cell_m, g.surface_m[c] + 0.03);
         spawn(at, Eigen::Vector3d(0.5 * v.x(), 0.5 * v.y(), 0.15), 0.08, 0.2);
       }
   }
@@ -104,23 +96,23 @@ void DustSystem::advance(const engine::World& world, const std::vector<Eigen::Ve
                               0.08 + 0.5 * kWindMS * (noise_.turbulence(q + Eigen::Vector3d(0, 31.7, 0), 3) - 0.45));
     p.velocity_m_s += (air - p.velocity_m_s) * take_up;
     p.position_m += p.velocity_m_s * dt_s;
-    p.position_m.z() = std::max(p.position_m.z(), ground_height_m(world, p.position_m) + 0.02);
+    p.position_m.z() = std::max(p.position_m.z(), ground_height_m(frame, p.position_m) + 0.02);
     p.radius_m += 0.25 * dt_s;
     p.age_s += dt_s;
   }
   puffs_.erase(std::remove_if(puffs_.begin(), puffs_.end(), [](const Puff& p) { return p.age_s >= p.life_s; }), puffs_.end());
 }
 
-void DustSystem::append_particles(const engine::World& world, std::vector<render::Particle>& out) const {
+void DustSystem::append_particles(const SceneLayout& layout, const SceneFrame& frame, std::vector<render::Particle>& out) const {
   for (const Puff& p : puffs_) {
     const double fade = 1.0 - p.age_s / p.life_s;
     out.push_back({p.position_m.cast<float>(), static_cast<float>(p.radius_m), static_cast<float>(p.opacity * fade * fade), p.shape,
                    kDustColour});
   }
-  if (const terrain::MaterialExchange* x = world.material()) {
-    const double quantum_m3 = world.terrain() ? world.terrain()->quantum_volume_m3() : 0.0;
+  {
+    const double quantum_m3 = layout.quantum_volume_m3;
     int k = 0;
-    for (const terrain::FallingParcel& p : x->parcels()) {
+    for (const FrameParcel& p : frame.parcels) {
       const double r = std::clamp(0.6 * std::cbrt(static_cast<double>(p.quanta) * quantum_m3), 0.03, 0.14);
       out.push_back({p.position_m.cast<float>(), static_cast<float>(r), 0.95f, static_cast<float>((k++ % 4) / 4.0 + 0.1),
                      kFallingSand});

@@ -13,7 +13,7 @@
 
 #include <Eigen/Core>
 
-#include "engine/world.h"
+#include "visual/scene_frame.h"
 #include "render/noise.h"
 #include "render/scene.h"
 
@@ -23,13 +23,13 @@ class DustSystem {
  public:
   explicit DustSystem(std::uint64_t seed = 8, std::size_t capacity = 3000);
 
-  // Moves on by dt_s to the world's present: spawns (parcels landing or
+  // Moves on by dt_s to the frame's present: spawns (parcels landing or
   // leaving a body, the ground's flow in m/s per cell when given), moves,
   // grows and ages every puff.
-  void advance(const engine::World& world, const std::vector<Eigen::Vector2f>* ground_flow_m_s, double dt_s);
+  void advance(const SceneLayout& layout, const SceneFrame& frame, const std::vector<Eigen::Vector2f>* ground_flow_m_s, double dt_s);
 
   // Appends the dust's puffs and the falling parcels.
-  void append_particles(const engine::World& world, std::vector<render::Particle>& out) const;
+  void append_particles(const SceneLayout& layout, const SceneFrame& frame, std::vector<render::Particle>& out) const;
   std::size_t puffs() const { return puffs_.size(); }
 
  private:
@@ -49,7 +49,5 @@ class DustSystem {
   std::vector<Puff> puffs_;
 };
 
-// Height of the ground (soil surface, else the firm yard at 0) below a point.
-double ground_height_m(const engine::World& world, const Eigen::Vector3d& at);
 
 }  // namespace skidsim::visual

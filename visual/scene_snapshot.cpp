@@ -38,23 +38,14 @@ Eigen::Affine3d box_pose(const Eigen::Isometry3d& frame, const Eigen::Vector3d& 
   return a;
 }
 
-// The machine's meshes' poses, in static_scene's order: each link's
-// visuals, then each wheel's.
+// The machine's meshes, in static_scene's order (capture_layout's
+// machine_parts): each link's visuals, then each wheel's.
 template <class F>
-void for_each_machine_part(const vehicle::Loader& l, F&& f) {
-  const vehicle::LoaderDescription& d = l.description();
+void for_each_machine_mesh(const vehicle::LoaderDescription& d, F&& f) {
   for (std::size_t k = 0; k < d.links.size(); ++k)
-    for (const vehicle::VisualMesh& v : d.links[k].visuals) {
-      const Eigen::Isometry3d link = l.link_pose(static_cast<int>(k));
-      const Eigen::Isometry3d visual = Eigen::Translation3d(v.pose.position_m) * v.pose.rotation;
-      f(v, Eigen::Affine3d(link * visual), k + 1 == d.links.size() && k > 0 ? kBucketGrey : kMachineYellow);
-    }
+    for (const vehicle::VisualMesh& v : d.links[k].visuals) f(v, k + 1 == d.links.size() && k > 0 ? kBucketGrey : kMachineYellow);
   for (const vehicle::Wheel& w : d.wheels)
-    for (const vehicle::VisualMesh& v : w.visuals) {
-      const Eigen::Isometry3d hub = l.link_pose(0) * Eigen::Translation3d(w.hub_m);
-      const Eigen::Isometry3d visual = Eigen::Translation3d(v.pose.position_m) * v.pose.rotation;
-      f(v, Eigen::Affine3d(hub * visual), kTyreBlack);
-    }
+    for (const vehicle::VisualMesh& v : w.visuals) f(v, kTyreBlack);
 }
 
 // The parts that move with the world but are not the machine, in a fixed
@@ -62,72 +53,66 @@ void for_each_machine_part(const vehicle::Loader& l, F&& f) {
 // walls, and the block under it when it stands up), then each agent (a
 // person: body and head; a truck: its cab). `f(pose, colour)` for each.
 template <class F>
-void for_each_site_part(const engine::World& world, F&& f) {
+void for_each_site_part(const SceneLayout& layout, const SceneFrame& frame, F&& f) {
   const Eigen::Vector3f bed(0.55f, 0.12f, 0.10f);
-  for (int k = 0; k < world.tray_count(); ++k) {
-    const terrain::BodyAutomaton& tray = world.tray(k);
-    const Eigen::Isometry3d frame = tray.pose();
-    const terrain::ContainerShape& c = tray.shape();
-    const double L = c.length_m, W = c.width_m, H = std::max(c.side_height_back_m, c.side_height_front_m), w = 0.05;
-    const double floor_z = frame.translation().z();
-    f(box_pose(frame, {0.5 * L, 0.5 * W, -0.05}, {L, W, 0.1}), bed);
-    f(box_pose(frame, {0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed);
-    f(box_pose(frame, {L - 0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed);
-    f(box_pose(frame, {0.5 * L, 0.5 * w, 0.5 * H}, {L, w, H}), bed);
-    f(box_pose(frame, {0.5 * L, W - 0.5 * w, 0.5 * H}, {L, w, H}), bed);
+  for (std::size_t k = 0; k < layout.trays.size(); ++k) {
+    const Eigen::Isometry3d& tray = frame.trays[k];
+    const double L = layout.trays[k].length_m, W = layout.trays[k].width_m, H = layout.trays[k].wall_height_m, w = 0.05;
+    const double floor_z = tray.translation().z();
+    f(box_pose(tray, {0.5 * L, 0.5 * W, -0.05}, {L, W, 0.1}), bed);
+    f(box_pose(tray, {0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed);
+    f(box_pose(tray, {L - 0.5 * w, 0.5 * W, 0.5 * H}, {w, W, H}), bed);
+    f(box_pose(tray, {0.5 * L, 0.5 * w, 0.5 * H}, {L, w, H}), bed);
+    f(box_pose(tray, {0.5 * L, W - 0.5 * w, 0.5 * H}, {L, w, H}), bed);
     // What carries the bed: a dark block under it (always emitted, flat
     // when the bed stands on the ground, so the order never changes).
     const double block = std::max(floor_z - 0.1, 0.001);
-    f(box_pose(frame, {0.5 * L, 0.5 * W, -0.1 - 0.5 * block}, {L * 0.9, W * 0.8, block}), Eigen::Vector3f(0.15f, 0.15f, 0.17f));
+    f(box_pose(tray, {0.5 * L, 0.5 * W, -0.1 - 0.5 * block}, {L * 0.9, W * 0.8, block}), Eigen::Vector3f(0.15f, 0.15f, 0.17f));
   }
-  const std::vector<engine::AgentSpec>& specs = world.agent_specs();
-  for (std::size_t k = 0; k < specs.size(); ++k) {
-    if (specs[k].kind == engine::AgentKind::kTruck && specs[k].tray >= 0) {
-      const terrain::BodyAutomaton& tray = world.tray(specs[k].tray);
-      const double L = tray.shape().length_m, W = tray.shape().width_m;
-      f(box_pose(world.agent_pose(static_cast<int>(k)), {0.5 * L + 0.05 + 0.5 * engine::kTruckCabLengthM, 0.0, 0.5 * engine::kTruckCabHeightM},
+  for (std::size_t k = 0; k < layout.agent_tray.size(); ++k) {
+    const Eigen::Isometry3d& frame_k = frame.agents[k];
+    if (const int t = layout.agent_tray[k]; t >= 0) {
+      const double L = layout.trays[static_cast<std::size_t>(t)].length_m, W = layout.trays[static_cast<std::size_t>(t)].width_m;
+      f(box_pose(frame_k, {0.5 * L + 0.05 + 0.5 * engine::kTruckCabLengthM, 0.0, 0.5 * engine::kTruckCabHeightM},
                  {engine::kTruckCabLengthM, W, engine::kTruckCabHeightM}),
         Eigen::Vector3f(0.85f, 0.85f, 0.82f));
       continue;
     }
     // A person in a high-visibility vest with a hard hat; out of sight
     // (far below) when not on site.
-    const Eigen::Isometry3d frame = world.agent_pose(static_cast<int>(k));
     const double h = engine::kPersonHeightM;
-    f(box_pose(frame, {0.0, 0.0, 0.42 * h}, {0.3, 0.46, 0.84 * h}), Eigen::Vector3f(1.0f, 0.45f, 0.05f));
-    f(box_pose(frame, {0.0, 0.0, 0.92 * h}, {0.22, 0.2, 0.16 * h}), Eigen::Vector3f(0.95f, 0.85f, 0.2f));  // hard hat
+    f(box_pose(frame_k, {0.0, 0.0, 0.42 * h}, {0.3, 0.46, 0.84 * h}), Eigen::Vector3f(1.0f, 0.45f, 0.05f));
+    f(box_pose(frame_k, {0.0, 0.0, 0.92 * h}, {0.22, 0.2, 0.16 * h}), Eigen::Vector3f(0.95f, 0.85f, 0.2f));  // hard hat
   }
 }
 
-render::HeightField field_of(const terrain::GranularGrid& g, const Eigen::Isometry3d& frame, bool only_material) {
+render::HeightField field_of(const FrameField& g) {
   render::HeightField f;
-  f.nx = g.nx();
-  f.ny = g.ny();
-  f.cell_m = g.cell_size_m();
-  f.pose = frame * Eigen::Translation3d(g.spec().origin_m.x(), g.spec().origin_m.y(), 0.0);
-  f.height_m.resize(static_cast<std::size_t>(f.nx) * f.ny);
-  if (only_material) f.shows.resize(f.height_m.size());
-  for (int j = 0; j < f.ny; ++j)
-    for (int i = 0; i < f.nx; ++i) {
-      const auto c = static_cast<std::size_t>(g.index(i, j));
-      f.height_m[c] = static_cast<float>(g.surface_m(i, j));
-      if (only_material) f.shows[c] = g.material_quanta(i, j) > 0;
-    }
+  f.nx = g.nx;
+  f.ny = g.ny;
+  f.cell_m = g.cell_m;
+  f.pose = g.pose;
+  f.height_m = g.surface_m;
+  f.shows = g.shows;
   return f;
 }
 
 }  // namespace
 
+
 render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
   render::Scene s;
-  // The machine first (update_scene walks the same order).
-  for_each_machine_part(world.loader(), [&](const vehicle::VisualMesh& v, const Eigen::Affine3d& pose, const Eigen::Vector3f& colour) {
+  const SceneLayout layout = capture_layout(world);
+  SceneFrame frame;
+  capture_frame(world, frame);
+  // The machine first (update_scene walks the same order), posed by update_scene.
+  for_each_machine_mesh(world.loader().description(), [&](const vehicle::VisualMesh& v, const Eigen::Vector3f& colour) {
     s.meshes.push_back(flat_mesh(v));
-    s.instances.push_back({static_cast<int>(s.meshes.size()) - 1, pose, colour});
+    s.instances.push_back({static_cast<int>(s.meshes.size()) - 1, Eigen::Affine3d::Identity(), colour});
   });
   s.meshes.push_back(render::unit_cube());
   const int cube = static_cast<int>(s.meshes.size()) - 1;
-  for_each_site_part(world, [&](const Eigen::Affine3d& pose, const Eigen::Vector3f& colour) {
+  for_each_site_part(layout, frame, [&](const Eigen::Affine3d& pose, const Eigen::Vector3f& colour) {
     s.instances.push_back({cube, pose, colour});
   });
   const Eigen::Vector2d size = ex.site_size_m;
@@ -154,47 +139,51 @@ render::Scene static_scene(const io::Exercise& ex, const engine::World& world) {
     }
   }
   for (const io::BoxObstacle& b : ex.boxes) {
-    const Eigen::Isometry3d frame(Eigen::AngleAxisd(b.yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()));
-    Eigen::Affine3d pose = Eigen::Translation3d(b.centre_m) * Eigen::Affine3d(frame.linear());
+    const Eigen::Isometry3d yaw(Eigen::AngleAxisd(b.yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()));
+    Eigen::Affine3d pose = Eigen::Translation3d(b.centre_m) * Eigen::Affine3d(yaw.linear());
     pose.scale(b.size_m);
     s.instances.push_back({cube, pose, Eigen::Vector3f(0.95f, 0.35f, 0.05f)});
   }
   s.shadow_bounds_m = Eigen::AlignedBox3d(Eigen::Vector3d(-2, -2, -1), Eigen::Vector3d(size.x() + 2, size.y() + 2, 5));
-  update_scene(world, s);
+  update_scene(layout, frame, s);
   return s;
 }
 
 void update_scene(const engine::World& world, render::Scene& s, SceneHistory* history) {
-  s.time_s = world.time_s();
+  SceneFrame local;
+  SceneFrame& frame = history ? history->frame : local;
+  capture_frame(world, frame);
+  update_scene(capture_layout(world), frame, s, history);
+}
+
+void update_scene(const SceneLayout& layout, const SceneFrame& frame, render::Scene& s, SceneHistory* history) {
+  s.time_s = frame.time_s;
   std::size_t k = 0;
-  for_each_machine_part(world.loader(), [&](const vehicle::VisualMesh&, const Eigen::Affine3d& pose, const Eigen::Vector3f&) {
-    s.instances[k++].pose = pose;
-  });
-  for_each_site_part(world, [&](const Eigen::Affine3d& pose, const Eigen::Vector3f&) { s.instances[k++].pose = pose; });
+  for (const SceneLayout::MachinePart& part : layout.machine_parts)
+    s.instances[k++].pose = Eigen::Affine3d(frame.links[static_cast<std::size_t>(part.link)] * part.offset);
+  for_each_site_part(layout, frame, [&](const Eigen::Affine3d& pose, const Eigen::Vector3f&) { s.instances[k++].pose = pose; });
   s.fields.clear();
-  if (const terrain::GranularGrid* g = world.terrain()) {
-    s.fields.push_back(field_of(*g, Eigen::Isometry3d::Identity(), false));
+  if (frame.has_ground) {
+    s.fields.push_back(field_of(frame.ground));
     s.fields.back().skirt_bottom_m = -0.3f;  // below the yard: the layer's sides closed
   }
-  if (const terrain::BodyAutomaton* b = world.bucket_material()) s.fields.push_back(field_of(b->grid(), b->pose(), true));
-  for (int t = 0; t < world.tray_count(); ++t) s.fields.push_back(field_of(world.tray(t).grid(), world.tray(t).pose(), true));
+  for (const FrameField& load : frame.loads) s.fields.push_back(field_of(load));
   s.particles.clear();
   if (history == nullptr) {
-    DustSystem().append_particles(world, s.particles);  // the falling parcels alone
+    DustSystem().append_particles(layout, frame, s.particles);  // the falling parcels alone
     return;
   }
-  const double dt = history->time_s >= 0.0 ? world.time_s() - history->time_s : 0.0;
+  const double dt = history->time_s >= 0.0 ? frame.time_s - history->time_s : 0.0;
   const std::vector<Eigen::Vector2f>* flow = nullptr;
-  const terrain::GranularGrid* g = world.terrain();
-  if (g && !g->flow_record_x().empty()) {
-    const std::vector<std::int64_t>&x = g->flow_record_x(), &y = g->flow_record_y();
+  if (frame.has_ground && !frame.flow_x.empty()) {
+    const std::vector<std::int64_t>&x = frame.flow_x, &y = frame.flow_y;
     if (history->flow_x.size() != x.size() || !(dt > 0.0)) {
       history->flow_x = x;
       history->flow_y = y;
     } else {
       std::vector<Eigen::Vector2f>& v = s.fields.front().flow_m_s;
       v.assign(x.size(), Eigen::Vector2f::Zero());
-      const double scale = terrain::kHeightQuantumM * g->cell_size_m() / (kFlowingLayerM * dt);
+      const double scale = terrain::kHeightQuantumM * frame.ground.cell_m / (kFlowingLayerM * dt);
       for (std::size_t c = 0; c < x.size(); ++c) {
         if (x[c] == history->flow_x[c] && y[c] == history->flow_y[c]) continue;
         Eigen::Vector2f u(static_cast<float>(static_cast<double>(x[c] - history->flow_x[c]) * scale),
@@ -207,13 +196,16 @@ void update_scene(const engine::World& world, render::Scene& s, SceneHistory* hi
       flow = &v;
     }
   }
-  history->dust.advance(world, flow, dt);
-  history->time_s = world.time_s();
-  history->dust.append_particles(world, s.particles);
+  history->dust.advance(layout, frame, flow, dt);
+  history->time_s = frame.time_s;
+  history->dust.append_particles(layout, frame, s.particles);
 }
 
 render::Camera exercise_camera(const std::string& name, const io::Exercise& ex, const engine::World& world) {
-  const Eigen::Isometry3d chassis = world.loader().link_pose(0);
+  return exercise_camera(name, ex, world.loader().link_pose(0));
+}
+
+render::Camera exercise_camera(const std::string& name, const io::Exercise& ex, const Eigen::Isometry3d& chassis) {
   const Eigen::Vector3d x = chassis.linear().col(0);
   const Eigen::Vector3d ahead = Eigen::Vector3d(x.x(), x.y(), 0.0).normalized();
   const Eigen::Vector3d at = chassis.translation();

@@ -1,0 +1,309 @@
+#include "visual/scene_stream.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <type_traits>
+
+namespace skidsim::visual {
+namespace {
+
+// A pose as 12 numbers: the rotation row-major, then the translation.
+template <class Out>
+void put_pose(const Eigen::Isometry3d& p, Out& out) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out[3 * r + c] = p.linear()(r, c);
+  for (int r = 0; r < 3; ++r) out[9 + r] = p.translation()(r);
+}
+
+template <class In>
+Eigen::Isometry3d get_pose(const In& in) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) p.linear()(r, c) = in[3 * r + c];
+  for (int r = 0; r < 3; ++r) p.translation()(r) = in[9 + r];
+  return p;
+}
+
+void put_poses(const std::vector<Eigen::Isometry3d>& poses, std::int16_t& count, std::vector<std::vector<double>>& out) {
+  count = static_cast<std::int16_t>(poses.size());
+  out.resize(poses.size());
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    out[k].resize(12);
+    put_pose(poses[k], out[k]);
+  }
+}
+
+void get_poses(const std::vector<std::vector<double>>& in, std::vector<Eigen::Isometry3d>& poses) {
+  poses.resize(in.size());
+  for (std::size_t k = 0; k < in.size(); ++k) {
+    if (in[k].size() != 12) throw SceneStreamError("scene: a pose with " + std::to_string(in[k].size()) + " numbers");
+    poses[k] = get_pose(in[k]);
+    if (!poses[k].matrix().allFinite()) throw SceneStreamError("scene: a pose that is not finite");
+  }
+}
+
+// What a flow record grew by since it was last sent, in whole units, which
+// then count as sent; the rest, and what an int32 cannot hold, goes later.
+std::int32_t growth(std::int64_t now, std::int64_t& sent) {
+  const std::int64_t units = std::clamp<std::int64_t>((now - sent) / kSceneFlowUnitQuanta, INT32_MIN, INT32_MAX);
+  sent += units * kSceneFlowUnitQuanta;
+  return static_cast<std::int32_t>(units);
+}
+
+// A height field's cells as the tiles carry them: the surface, and either
+// the flow record (the ground) or which cells hold material (a load).
+template <bool kConst>
+struct CellsOf {
+  template <class T>
+  using Ptr = std::conditional_t<kConst, const T*, T*>;
+  int nx = 0, ny = 0;
+  Ptr<std::vector<float>> surface = nullptr;
+  Ptr<std::vector<std::uint8_t>> shows = nullptr;                   // a load
+  Ptr<std::vector<std::int64_t>> flow_x = nullptr, flow_y = nullptr;  // the ground, when recorded
+  std::size_t at(int i, int j) const { return static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i); }
+};
+using Cells = CellsOf<false>;
+using ConstCells = CellsOf<true>;
+
+// Appends the squares of `now` where a cell differs from `sent` by a step
+// worth sending (all of them when `whole`), every cell of each exactly, and
+// makes `sent` what was sent.
+void append_changed_tiles(const ConstCells& now, const Cells& sent, bool whole, std::vector<skidsim_lcm::scene_tile_t>& out) {
+  for (int j0 = 0; j0 < now.ny; j0 += kSceneTileCells)
+    for (int i0 = 0; i0 < now.nx; i0 += kSceneTileCells) {
+      const int ni = std::min(kSceneTileCells, now.nx - i0), nj = std::min(kSceneTileCells, now.ny - j0);
+      bool changed = whole;
+      for (int j = j0; j < j0 + nj && !changed; ++j)
+        for (int i = i0; i < i0 + ni && !changed; ++i) {
+          const std::size_t c = now.at(i, j);
+          changed = std::abs((*now.surface)[c] - (*sent.surface)[c]) >= kSceneSurfaceStepM ||
+                    (now.shows && (*now.shows)[c] != (*sent.shows)[c]) ||
+                    (now.flow_x && (std::abs((*now.flow_x)[c] - (*sent.flow_x)[c]) >= kSceneFlowStepQuanta ||
+                                    std::abs((*now.flow_y)[c] - (*sent.flow_y)[c]) >= kSceneFlowStepQuanta));
+        }
+      if (!changed) continue;
+      skidsim_lcm::scene_tile_t t;
+      t.i0 = i0, t.j0 = j0, t.ni = ni, t.nj = nj, t.num_cells = ni * nj;
+      t.num_flow = now.flow_x ? t.num_cells : 0;
+      t.num_shows = now.shows ? t.num_cells : 0;
+      t.surface_m.resize(static_cast<std::size_t>(t.num_cells));
+      t.flow_dx.resize(static_cast<std::size_t>(t.num_flow)), t.flow_dy.resize(static_cast<std::size_t>(t.num_flow));
+      t.shows.resize(static_cast<std::size_t>(t.num_shows));
+      for (int j = j0; j < j0 + nj; ++j)
+        for (int i = i0; i < i0 + ni; ++i) {
+          const std::size_t c = now.at(i, j), k = static_cast<std::size_t>((j - j0) * ni + (i - i0));
+          t.surface_m[k] = (*sent.surface)[c] = (*now.surface)[c];
+          if (now.shows) t.shows[k] = static_cast<std::int8_t>((*sent.shows)[c] = (*now.shows)[c]);
+          if (now.flow_x) {
+            t.flow_dx[k] = growth((*now.flow_x)[c], (*sent.flow_x)[c]);
+            t.flow_dy[k] = growth((*now.flow_y)[c], (*sent.flow_y)[c]);
+          }
+        }
+      out.push_back(std::move(t));
+    }
+}
+
+// Checks tiles against an nx x ny field: inside it, of their size, with the
+// flow record (ground) or the cells holding material (load) as `f` has
+// them. Returns the cells they cover (a square sent twice counts twice).
+long long check_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, int nx, int ny, bool flow, bool shows,
+                      const std::string& what) {
+  long long covered = 0;
+  for (const skidsim_lcm::scene_tile_t& t : tiles) {
+    const bool fits = t.i0 >= 0 && t.j0 >= 0 && t.ni > 0 && t.nj > 0 && t.ni <= kSceneTileCells && t.nj <= kSceneTileCells &&
+                      t.i0 + t.ni <= nx && t.j0 + t.nj <= ny && t.num_cells == t.ni * t.nj &&
+                      static_cast<int>(t.surface_m.size()) == t.num_cells && t.num_flow == (flow ? t.num_cells : 0) &&
+                      static_cast<int>(t.flow_dx.size()) == t.num_flow && static_cast<int>(t.flow_dy.size()) == t.num_flow &&
+                      t.num_shows == (shows ? t.num_cells : 0) && static_cast<int>(t.shows.size()) == t.num_shows;
+    if (!fits)
+      throw SceneStreamError("scene: " + what + ": a square at cell (" + std::to_string(t.i0) + ", " + std::to_string(t.j0) + "), " +
+                             std::to_string(t.ni) + " x " + std::to_string(t.nj) + ", off the " + std::to_string(nx) + " x " +
+                             std::to_string(ny) + " cells or not of its size");
+    covered += t.num_cells;
+  }
+  return covered;
+}
+
+void apply_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, const Cells& f) {
+  for (const skidsim_lcm::scene_tile_t& t : tiles)
+    for (int j = 0; j < t.nj; ++j)
+      for (int i = 0; i < t.ni; ++i) {
+        const std::size_t c = f.at(t.i0 + i, t.j0 + j), k = static_cast<std::size_t>(j * t.ni + i);
+        (*f.surface)[c] = t.surface_m[k];
+        if (f.shows) (*f.shows)[c] = t.shows[k] != 0;
+        if (f.flow_x) (*f.flow_x)[c] += t.flow_dx[k] * kSceneFlowUnitQuanta, (*f.flow_y)[c] += t.flow_dy[k] * kSceneFlowUnitQuanta;
+      }
+}
+
+bool sized(int nx, int ny, double cell_m) {
+  return nx > 0 && ny > 0 && nx <= 100000 && ny <= 100000 && static_cast<long long>(nx) * ny <= 100000000LL && cell_m > 0.0 &&
+         std::isfinite(cell_m);
+}
+
+}  // namespace
+
+const skidsim_lcm::scene_t& SceneStreamWriter::encode(const SceneFrame& f) {
+  skidsim_lcm::scene_t& m = message_;
+  m.step = f.step;
+  m.sim_time_s = f.time_s;
+  put_poses(f.links, m.num_links, m.link_pose);
+  put_poses(f.trays, m.num_trays, m.tray_pose);
+  put_poses(f.agents, m.num_agents, m.agent_pose);
+  // The ground: a new grid (or the flow record turned on or off) goes whole,
+  // its flow record's growth counted from zero.
+  const bool whole = first_ || f.has_ground != sent_.has_ground || f.ground.nx != sent_.ground.nx ||
+                     f.ground.ny != sent_.ground.ny || f.flow_x.size() != sent_.flow_x.size();
+  if (whole) {
+    sent_.has_ground = f.has_ground;
+    sent_.ground = f.ground;
+    sent_.flow_x.assign(f.flow_x.size(), 0);
+    sent_.flow_y.assign(f.flow_y.size(), 0);
+  }
+  m.has_ground = f.has_ground;
+  m.ground_nx = f.has_ground ? f.ground.nx : 0;
+  m.ground_ny = f.has_ground ? f.ground.ny : 0;
+  m.ground_cell_m = f.has_ground ? f.ground.cell_m : 0.0;
+  put_pose(f.ground.pose, m.ground_pose);
+  m.tiles.clear();
+  if (f.has_ground) {
+    const bool flow = !f.flow_x.empty();
+    append_changed_tiles({f.ground.nx, f.ground.ny, &f.ground.surface_m, nullptr, flow ? &f.flow_x : nullptr, flow ? &f.flow_y : nullptr},
+                         {f.ground.nx, f.ground.ny, &sent_.ground.surface_m, nullptr, flow ? &sent_.flow_x : nullptr,
+                          flow ? &sent_.flow_y : nullptr},
+                         whole, m.tiles);
+  }
+  m.num_tiles = static_cast<std::int32_t>(m.tiles.size());
+  // The loads: a new or resized one goes whole.
+  m.has_bucket = f.has_bucket;
+  m.num_loads = static_cast<std::int16_t>(f.loads.size());
+  m.loads.resize(f.loads.size());
+  if (sent_.loads.size() != f.loads.size()) sent_.loads.assign(f.loads.size(), FrameField{});
+  for (std::size_t k = 0; k < f.loads.size(); ++k) {
+    const FrameField& load = f.loads[k];
+    FrameField& sent = sent_.loads[k];
+    const bool new_load = first_ || sent.nx != load.nx || sent.ny != load.ny;
+    if (new_load) sent = load;
+    skidsim_lcm::scene_field_t& out = m.loads[k];
+    put_pose(load.pose, out.pose);
+    out.nx = load.nx, out.ny = load.ny, out.cell_m = load.cell_m;
+    out.tiles.clear();
+    append_changed_tiles({load.nx, load.ny, &load.surface_m, &load.shows, nullptr, nullptr},
+                         {load.nx, load.ny, &sent.surface_m, &sent.shows, nullptr, nullptr}, new_load, out.tiles);
+    out.num_tiles = static_cast<std::int32_t>(out.tiles.size());
+  }
+  m.num_parcels = static_cast<std::int32_t>(f.parcels.size());
+  m.parcel_position_m.resize(f.parcels.size());
+  m.parcel_velocity_m_s.resize(f.parcels.size());
+  m.parcel_quanta.resize(f.parcels.size());
+  for (std::size_t k = 0; k < f.parcels.size(); ++k) {
+    const FrameParcel& p = f.parcels[k];
+    // Single precision: a falling parcel drawn, and the dust it raises, need no more.
+    m.parcel_position_m[k] = {static_cast<float>(p.position_m.x()), static_cast<float>(p.position_m.y()),
+                              static_cast<float>(p.position_m.z())};
+    m.parcel_velocity_m_s[k] = {static_cast<float>(p.velocity_m_s.x()), static_cast<float>(p.velocity_m_s.y()),
+                                static_cast<float>(p.velocity_m_s.z())};
+    m.parcel_quanta[k] = p.quanta;
+  }
+  first_ = false;
+  return m;
+}
+
+void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
+  // Everything is checked before anything changes: a message that does not
+  // fit leaves the frame as it was.
+  const bool new_ground = !ready_ || m.has_ground != frame_.has_ground || m.ground_nx != frame_.ground.nx ||
+                          m.ground_ny != frame_.ground.ny;
+  bool whole_ground = new_ground, flow = false;
+  if (m.has_ground) {
+    if (!sized(m.ground_nx, m.ground_ny, m.ground_cell_m))
+      throw SceneStreamError("scene: ground " + std::to_string(m.ground_nx) + " x " + std::to_string(m.ground_ny) +
+                             " cells of " + std::to_string(m.ground_cell_m) + " m");
+    flow = !m.tiles.empty() ? m.tiles.front().num_flow > 0 : !frame_.flow_x.empty();
+    const long long covered = check_tiles(m.tiles, m.ground_nx, m.ground_ny, flow, false, "the ground");
+    const bool every = covered == static_cast<long long>(m.ground_nx) * m.ground_ny;
+    if (new_ground && !every)
+      throw SceneStreamError("scene: a new ground needs every square (" + std::to_string(covered) + " cells sent)");
+    // Every square starts afresh (the flow record on or off with it).
+    whole_ground = new_ground || every;
+    if (!whole_ground && flow != !frame_.flow_x.empty())
+      throw SceneStreamError("scene: the flow record came or went without every square");
+  }
+  const std::size_t loads = static_cast<std::size_t>(std::max<std::int16_t>(m.num_loads, 0));
+  if (m.num_loads < 0 || m.loads.size() != loads || (m.has_bucket && loads == 0))
+    throw SceneStreamError("scene: " + std::to_string(m.num_loads) + " loads");
+  for (std::size_t k = 0; k < loads; ++k) {
+    const skidsim_lcm::scene_field_t& l = m.loads[k];
+    const std::string what = "load " + std::to_string(k);
+    if (!sized(l.nx, l.ny, l.cell_m) || l.num_tiles != static_cast<int>(l.tiles.size()))
+      throw SceneStreamError("scene: " + what + ", " + std::to_string(l.nx) + " x " + std::to_string(l.ny) + " cells");
+    const long long covered = check_tiles(l.tiles, l.nx, l.ny, false, true, what);
+    const bool kept = ready_ && k < frame_.loads.size() && frame_.loads[k].nx == l.nx && frame_.loads[k].ny == l.ny;
+    if (!kept && covered != static_cast<long long>(l.nx) * l.ny)
+      throw SceneStreamError("scene: a new " + what + " needs every square (" + std::to_string(covered) + " cells sent)");
+  }
+  const std::size_t parcels = static_cast<std::size_t>(std::max(m.num_parcels, 0));
+  if (m.num_parcels < 0 || m.parcel_position_m.size() != parcels || m.parcel_velocity_m_s.size() != parcels ||
+      m.parcel_quanta.size() != parcels)
+    throw SceneStreamError("scene: " + std::to_string(m.num_parcels) + " parcels");
+  for (std::size_t k = 0; k < parcels; ++k) {
+    const auto& p = m.parcel_position_m[k];
+    const auto& v = m.parcel_velocity_m_s[k];
+    if (p.size() != 3 || v.size() != 3 || !std::isfinite(p[0] + p[1] + p[2] + v[0] + v[1] + v[2]) || m.parcel_quanta[k] <= 0)
+      throw SceneStreamError("scene: parcel " + std::to_string(k) + " is not three finite numbers for where, three for how "
+                             "fast and its quanta");
+  }
+  SceneFrame poses;
+  get_poses(m.link_pose, poses.links);
+  get_poses(m.tray_pose, poses.trays);
+  get_poses(m.agent_pose, poses.agents);
+  if (poses.links.empty()) throw SceneStreamError("scene: no links");
+
+  // It fits: apply.
+  frame_.step = m.step;
+  frame_.time_s = m.sim_time_s;
+  frame_.links.swap(poses.links);
+  frame_.trays.swap(poses.trays);
+  frame_.agents.swap(poses.agents);
+  frame_.has_ground = m.has_ground;
+  if (m.has_ground) {
+    FrameField& g = frame_.ground;
+    if (whole_ground) {
+      g.nx = m.ground_nx, g.ny = m.ground_ny;
+      g.surface_m.assign(static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny), 0.0f);
+      frame_.flow_x.assign(flow ? g.surface_m.size() : 0, 0);
+      frame_.flow_y.assign(flow ? g.surface_m.size() : 0, 0);
+    }
+    g.cell_m = m.ground_cell_m;
+    g.pose = get_pose(m.ground_pose);
+    apply_tiles(m.tiles, {g.nx, g.ny, &g.surface_m, nullptr, flow ? &frame_.flow_x : nullptr, flow ? &frame_.flow_y : nullptr});
+  } else {
+    frame_.ground = FrameField{};
+    frame_.flow_x.clear(), frame_.flow_y.clear();
+  }
+  frame_.has_bucket = m.has_bucket;
+  frame_.loads.resize(loads);
+  for (std::size_t k = 0; k < loads; ++k) {
+    const skidsim_lcm::scene_field_t& l = m.loads[k];
+    FrameField& f = frame_.loads[k];
+    if (f.nx != l.nx || f.ny != l.ny) {
+      f.nx = l.nx, f.ny = l.ny;
+      f.surface_m.assign(static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny), 0.0f);
+      f.shows.assign(f.surface_m.size(), 0);
+    }
+    f.pose = get_pose(l.pose);
+    f.cell_m = l.cell_m;
+    apply_tiles(l.tiles, {f.nx, f.ny, &f.surface_m, &f.shows, nullptr, nullptr});
+  }
+  frame_.parcels.resize(parcels);
+  for (std::size_t k = 0; k < parcels; ++k) {
+    const auto& p = m.parcel_position_m[k];
+    const auto& v = m.parcel_velocity_m_s[k];
+    frame_.parcels[k] = {Eigen::Vector3f(p[0], p[1], p[2]).cast<double>(), Eigen::Vector3f(v[0], v[1], v[2]).cast<double>(),
+                         m.parcel_quanta[k]};
+  }
+  ready_ = true;
+}
+
+}  // namespace skidsim::visual

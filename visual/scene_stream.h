@@ -1,0 +1,72 @@
+// The scene stream (SKIDSIM_SCENE, skidsim_lcm::scene_t; docs/rendering.md,
+// "The scene stream"): a SceneFrame as a message, 25 a second, with every
+// second state message. The ground and the loads go as changes against what was sent
+// before (the ground in squares of kSceneTileCells, its flow record as what
+// it grew by), so a view keeps them from message to message; everything
+// else goes whole. A reader that has applied every message holds the
+// writer's frame as sent (surfaces within kSceneSurfaceStepM of the world's,
+// its flow record counted from the first message it applied), so a view
+// draws the pixels the session's own recording draws.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+
+#include "skidsim_lcm/scene_t.hpp"
+#include "visual/scene_frame.h"
+
+namespace skidsim::visual {
+
+inline constexpr const char* kSceneChannel = "SKIDSIM_SCENE";
+inline constexpr int kSceneTileCells = 8;
+// A square of a surface goes when one of its cells moved this much since it
+// was last sent: half a millimetre, below what a frame shows at the
+// sessions' cells; the automaton's creep, far smaller, would otherwise send
+// most squares every message. A view's surfaces are within it of the
+// world's, and the session's own recording, which draws the stream too,
+// shows the same.
+inline constexpr float kSceneSurfaceStepM = 0.0005f;
+// The flow record's growth goes in units of 1024 quanta (about 1 um of
+// soil; int32: the automaton's avalanches, back and forth, sent 0.25 m
+// across a face in one message's 40 ms while truck loading, far below the
+// 2 km an int32 holds; more would go in the next).
+inline constexpr std::int64_t kSceneFlowUnitQuanta = 1024;
+// The flow record's growth that sends a square on its own: 0.1 mm of soil
+// across a face, a flow of 0.02 m/s over a message's 20 ms in a 5 cm cell
+// (scene_snapshot's speeds), below what the eye follows; it goes, not lost,
+// with the square's next change.
+inline constexpr std::int64_t kSceneFlowStepQuanta = static_cast<std::int64_t>(1e-4 / terrain::kHeightQuantumM);
+
+class SceneStreamWriter {
+ public:
+  // The message for `frame`: its ground's squares and its loads that differ
+  // from those sent before (every one the first time). Valid until the next call.
+  const skidsim_lcm::scene_t& encode(const SceneFrame& frame);
+
+ private:
+  bool first_ = true;
+  SceneFrame sent_;
+  skidsim_lcm::scene_t message_;
+};
+
+// A message that does not fit the stream so far (its sizes, a square off
+// the grid, a change before any whole frame).
+struct SceneStreamError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class SceneStreamReader {
+ public:
+  // Applies one message; throws SceneStreamError naming what does not fit
+  // (the frame is then as before).
+  void apply(const skidsim_lcm::scene_t& message);
+  // Whether a first message (the whole ground and loads) has been applied.
+  bool ready() const { return ready_; }
+  const SceneFrame& frame() const { return frame_; }
+
+ private:
+  bool ready_ = false;
+  SceneFrame frame_;
+};
+
+}  // namespace skidsim::visual
