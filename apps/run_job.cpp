@@ -111,7 +111,7 @@ struct LogAndLcm : SessionOutput {
 };
 
 // Recording: the scene stream drawn as skidsim view draws it (the frame due
-// at each scene message, 50 a second), handed to the recorder's thread.
+// at each scene message, 25 a second), handed to the recorder's thread.
 class SessionRecording {
  public:
   SessionRecording(const RunJob& job, const io::Exercise& ex, engine::World& world, const std::filesystem::path& staging)
@@ -119,7 +119,7 @@ class SessionRecording {
         fps_(job.frame_fps > 0.0 ? job.frame_fps : ex.recording.fps),
         width_(job.frame_width > 0 ? job.frame_width : ex.recording.width),
         height_(job.frame_height > 0 ? job.frame_height : ex.recording.height) {
-    if (!(fps_ >= 0.1 && fps_ <= 100.0)) throw io::InputError("--fps: expected 0.1 to 100 frames a second");
+    if (!(fps_ >= 0.1 && fps_ <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
     if (width_ < 16 || height_ < 16 || width_ > 8192 || height_ > 8192)
       throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
     if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")

@@ -304,7 +304,7 @@ void add_session_command(CLI::App& app, Commands& c) {
   c.run_cmd->add_option("--mode", c.run.mode, "fast, realtime or lockstep (default: fast with a script, realtime over LCM)");
   c.run_cmd->add_option("--session", c.run.session,
                         "A live session's name: its LCM channels are its own (SKIDSIM_STATE@NAME...), so sessions on one\n"
-                        "host never cross; an operator or a view attaches by it (default: the exercise's name and the process id)");
+                        "host never cross; an operator attaches by it (default: the exercise's name and the process id)");
   // 0 is refused rather than read as "no limit": a session always ends.
   c.run_cmd->add_option("--max-s", c.run.max_s, "Stop after this much simulated time, 0.001 to 86400 s (default: the exercise's limit)")
       ->check(number_in(0.001, 86400.0));
@@ -314,7 +314,7 @@ void add_session_command(CLI::App& app, Commands& c) {
   c.run_cmd->add_option("--camera", c.run.camera, "With --record: cab, chase, aerial or fixed (default: the exercise's)");
   c.run_cmd->add_option("--frame-width", c.run.frame_width, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
   c.run_cmd->add_option("--frame-height", c.run.frame_height, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
-  c.run_cmd->add_option("--fps", c.run.frame_fps, "With --record: frames a second (default: the exercise's)")->check(number_in(0.1, 100.0));
+  c.run_cmd->add_option("--fps", c.run.frame_fps, "With --record: frames a second, at most 25 (default: the exercise's)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
   c.run_cmd->add_option("--render-backend", c.run.render_backend, "With --record: auto, egl or osmesa")->capture_default_str();
   c.run_cmd->add_flag("--terrain-tiles", c.run.terrain_tiles,
                     "Also send the soil's surface over LCM and to the log (SKIDSIM_TERRAIN): every 32 x 32 tile\n"
@@ -343,7 +343,7 @@ void add_session_tools(CLI::App& app, Commands& c) {
                 "first render the session again by replaying its log (frames_<camera>_<fps>fps)");
   c.review_cmd->add_option("run_dir", c.review_job.run_dir, "Run directory (of skidsim run)")->required();
   c.review_cmd->add_option("--camera", c.review_job.camera, "Re-render from this camera: cab, chase, aerial or fixed");
-  c.review_cmd->add_option("--fps", c.review_job.fps, "Re-render at this rate (frames a second)")->check(number_in(0.1, 100.0));
+  c.review_cmd->add_option("--fps", c.review_job.fps, "Re-render at this rate (frames a second, at most 25)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
   c.review_cmd->add_option("--width", c.review_job.width, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   c.review_cmd->add_option("--height", c.review_job.height, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   c.review_cmd->add_option("--backend", c.review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
@@ -354,7 +354,7 @@ void add_session_tools(CLI::App& app, Commands& c) {
               "rate, from a run directory's session.lcmlog, the pixels `run --record` draws (view_<camera>_<fps>fps)");
   c.view_cmd->add_option("source", c.view_job.source, "Run directory (of skidsim run), or a session.lcmlog with --exercise")->required();
   c.view_cmd->add_option("--camera", c.view_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
-  c.view_cmd->add_option("--fps", c.view_job.fps, "Frames a second (default: the exercise's)")->check(number_in(0.1, 100.0));
+  c.view_cmd->add_option("--fps", c.view_job.fps, "Frames a second, at most 25 (default: the exercise's)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
   c.view_cmd->add_option("--width", c.view_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   c.view_cmd->add_option("--height", c.view_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   c.view_cmd->add_option("--backend", c.view_job.backend, "auto, egl or osmesa")->capture_default_str();

@@ -59,7 +59,7 @@ int run_view(const ViewJob& job) {
   const std::string camera = job.camera.empty() ? ex.recording.camera : job.camera;
   const double fps = job.fps > 0.0 ? job.fps : ex.recording.fps;
   const int width = job.width > 0 ? job.width : ex.recording.width, height = job.height > 0 ? job.height : ex.recording.height;
-  if (!(fps >= 0.1 && fps <= 100.0)) throw io::InputError("--fps: expected 0.1 to 100 frames a second");
+  if (!(fps >= 0.1 && fps <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
   if (width < 16 || height < 16 || width > 8192 || height > 8192) throw io::InputError("--width / --height: expected 16 to 8192");
   if (job.backend != "auto" && job.backend != "egl" && job.backend != "osmesa")
     throw io::InputError("--backend '" + job.backend + "': expected auto, egl or osmesa");
@@ -82,10 +82,9 @@ int run_view(const ViewJob& job) {
   }
   for (const io::LcmLogEvent& e : events) {
     const std::string where = io::lcm_log_where(log_path.string(), e.data_offset_bytes, e.index);
-    skidsim_lcm::scene_t m;
-    const int bytes = static_cast<int>(e.data.size());
-    if (m.decode(e.data.data(), 0, bytes) != bytes) throw io::InputError(where + "a scene message that does not decode");
     try {
+      skidsim_lcm::scene_t m;
+      visual::decode_scene(e.data.data(), e.data.size(), m);
       for (int k = view->apply(m); k > 0; --k) recorder->submit(view->scene(), view->camera());
     } catch (const visual::SceneStreamError& error) {
       throw io::InputError(where + error.what());

@@ -458,11 +458,11 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         o.kind = OperatorSource::Kind::kLcm;
         o.lcm_url = a.text("url", false);
         if (a.has("channel")) o.channel = a.text("channel", true);
-        if (o.channel.empty()) a.fail("attribute 'channel' must not be empty");
-        if (o.channel.find('@') != std::string::npos)
-          a.fail("attribute 'channel' must not contain '@' (a live session adds '@' and its name)");
-        if (o.channel.size() > 30)
-          a.fail("attribute 'channel' must be at most 30 characters (with '@' and a session's name, within LCM's 63)");
+        // A live session adds '@' and its name (within LCM's 63 bytes), and
+        // LCM subscribes to a channel as a regular expression.
+        if (o.channel.empty() || o.channel.size() > 30 ||
+            o.channel.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos)
+          a.fail("attribute 'channel' must be 1 to 30 of A-Z a-z 0-9 _ - (a live session adds '@' and its name)");
         o.watchdog_s = a.has("watchdog_ms") ? a.number_in("watchdog_ms", 10.0, 10000.0) / 1000.0 : o.watchdog_s;
       } else if (source == "script") {
         o.kind = OperatorSource::Kind::kScript;
@@ -502,7 +502,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
     } else if (name == "record") {
       once(have_record);
       Recording& rec = r.ex.recording;
-      rec.fps = a.number_in("fps", 0.1, 100.0);  // frames are taken between 10 ms control ticks
+      rec.fps = a.number_in("fps", 0.1, kMaxRecordFps);  // frames come from the scene stream's messages
       rec.camera = a.text("camera", false);
       if (rec.camera.empty()) rec.camera = "chase";
       if (rec.camera != "cab" && rec.camera != "chase" && rec.camera != "aerial" && rec.camera != "fixed")

@@ -130,6 +130,9 @@ struct Scoring {
   std::vector<Metric> metrics;
   double pass_score = 0.0;
 };
+// Frames a second a recording or a view draws at most: the scene stream's
+// rate (session::kStepsPerScene, 25 a second).
+inline constexpr double kMaxRecordFps = 25.0;
 struct Recording {
   double fps = 10.0;
   std::string camera = "chase";  // cab, chase, aerial, fixed

@@ -31,14 +31,15 @@ struct LcmChannels {
 
 // A live session's own channels: each base name, "@" and the session's name
 // (SKIDSIM_STATE@bay-3), so that sessions sharing one provider (a centre's
-// trainees side by side on one host's multicast) never hear each other; a
-// view or an operator attaches to a session by its name. `control` is the
+// trainees side by side on one host's multicast) never hear each other; an
+// operator attaches to a session by its name. `control` is the
 // exercise's control channel. A session's log keeps the base names (a log
 // holds one session; bare_channel).
 LcmChannels session_channels(const std::string& session, const std::string& control = LcmChannels{}.control);
 inline std::string bare_channel(const std::string& channel) { return channel.substr(0, channel.find('@')); }
-// A session name is 1 to 32 of A-Z a-z 0-9 . _ - (it goes into channel
-// names, which LCM keeps under 64 bytes, and file names); io::InputError
+// A session name is 1 to 32 of A-Z a-z 0-9 _ - (it goes into channel
+// names, which LCM keeps under 64 bytes and subscribes to as regular
+// expressions: no '.', which would match any character); io::InputError
 // naming `option` otherwise.
 void check_session_name(const std::string& name, const std::string& option);
 // The name a live session takes unless it is given one, unique on this

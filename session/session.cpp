@@ -69,6 +69,10 @@ std::string Session::tick(bool levers_neutral, const DecideControls& decide, Ses
   return "";
 }
 
+// The scene stream's rate is the most frames a second a recording draws.
+static_assert(io::kMaxRecordFps * kStepsPerScene * engine::kStepSeconds > 1.0 - 1e-12 &&
+              io::kMaxRecordFps * kStepsPerScene * engine::kStepSeconds < 1.0 + 1e-12);
+
 void Session::keep_books(const skidsim_lcm::state_t& state, const TickDecision& decision, long step, double t,
                          SessionOutput& out) {
   engine::World& w = *world_;

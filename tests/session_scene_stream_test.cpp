@@ -69,12 +69,6 @@ std::string difference(const visual::SceneFrame& a, const visual::SceneFrame& b)
   return "";
 }
 
-// Out of line: inlined here, gcc takes lcm-gen's hash check for a read of
-// an uninitialised value (-Wmaybe-uninitialized), which it is not.
-[[gnu::noinline]] int decode(skidsim_lcm::scene_t& m, const std::vector<std::uint8_t>& buffer) {
-  return m.decode(buffer.data(), 0, static_cast<int>(buffer.size()));
-}
-
 struct Captured : SessionOutput {
   const engine::World* world = nullptr;
   visual::SceneStreamReader reader;
@@ -87,7 +81,7 @@ struct Captured : SessionOutput {
     std::vector<std::uint8_t> buffer(static_cast<std::size_t>(m.getEncodedSize()));
     ASSERT_EQ(m.encode(buffer.data(), 0, static_cast<int>(buffer.size())), static_cast<int>(buffer.size()));
     skidsim_lcm::scene_t decoded;
-    ASSERT_EQ(decode(decoded, buffer), static_cast<int>(buffer.size()));
+    visual::decode_scene(buffer.data(), buffer.size(), decoded);
     reader.apply(decoded);
     visual::capture_frame(*world, frame);
     const std::string d = difference(reader.frame(), frame);
@@ -169,7 +163,28 @@ TEST(SceneStream, AMessageThatDoesNotFitIsRefusedAndChangesNothing) {
       {"a pose not finite", [](skidsim_lcm::scene_t& m) { m.link_pose.front()[9] = std::nan(""); }},
       {"no links", [](skidsim_lcm::scene_t& m) { m.link_pose.clear(), m.num_links = 0; }},
       {"a ground of no size", [](skidsim_lcm::scene_t& m) { m.ground_nx = 0; }},
+      {"a square past the largest int", [](skidsim_lcm::scene_t& m) { m.tiles.front().i0 = 2147483640; }},
+      {"a surface not finite", [](skidsim_lcm::scene_t& m) { m.tiles.front().surface_m.front() = std::nanf(""); }},
+      {"a square sent twice in a whole ground", [](skidsim_lcm::scene_t& m) { m.tiles.back() = m.tiles.front(); }},
+      {"time going back", [](skidsim_lcm::scene_t& m) { m.sim_time_s = -0.02; }},
+      {"time leaping ahead", [](skidsim_lcm::scene_t& m) { m.sim_time_s = 1e12; }},
+      {"a load's pose not finite", [](skidsim_lcm::scene_t& m) { m.loads.front().pose[9] = std::nan(""); }},
   };
+  // Bytes whose counts overstate them: refused before anything is sized.
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(first.getEncodedSize()));
+  ASSERT_EQ(first.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  skidsim_lcm::scene_t decoded;
+  visual::decode_scene(bytes.data(), bytes.size(), decoded);
+  EXPECT_EQ(decoded.num_tiles, first.num_tiles);
+  std::vector<std::uint8_t> cut(bytes.begin(), bytes.begin() + static_cast<long>(bytes.size() / 2));
+  EXPECT_THROW(visual::decode_scene(cut.data(), cut.size(), decoded), visual::SceneStreamError);
+  std::vector<std::uint8_t> huge = bytes;
+  const std::size_t tiles_at = 8 + 8 + 8 + 2 + 96 * first.link_pose.size() + 2 + 96 * first.tray_pose.size() + 2 +
+                               96 * first.agent_pose.size() + 1 + 4 + 4 + 8 + 96 + 1;
+  for (std::size_t k = 0; k < 4; ++k) huge[tiles_at + k] = k == 0 ? 0x7f : 0xff;  // num_tiles 2^31 - 1
+  EXPECT_THROW(visual::decode_scene(huge.data(), huge.size(), decoded), visual::SceneStreamError);
+  for (std::size_t k = 0; k < 4; ++k) huge[tiles_at + k] = 0xff;  // num_tiles -1
+  EXPECT_THROW(visual::decode_scene(huge.data(), huge.size(), decoded), visual::SceneStreamError);
   for (const Bad& b : bad) {
     skidsim_lcm::scene_t m = first;
     m.step += 10, m.sim_time_s += 0.02;

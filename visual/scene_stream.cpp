@@ -106,14 +106,19 @@ void append_changed_tiles(const ConstCells& now, const Cells& sent, bool whole, 
 }
 
 // Checks tiles against an nx x ny field: inside it, of their size, with the
-// flow record (ground) or the cells holding material (load) as `f` has
-// them. Returns the cells they cover (a square sent twice counts twice).
-long long check_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, int nx, int ny, bool flow, bool shows,
-                      const std::string& what) {
-  long long covered = 0;
+// flow record (ground) or the cells holding material (load) as asked,
+// surfaces finite; when `whole`, every cell exactly once.
+void check_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, int nx, int ny, bool flow, bool shows, bool whole,
+                 const std::string& what) {
+  if (whole) {  // before the cells are counted one by one: as many as the field has
+    long long cells = 0;
+    for (const skidsim_lcm::scene_tile_t& t : tiles) cells += std::max(t.num_cells, 0);
+    if (cells != static_cast<long long>(nx) * ny) throw SceneStreamError("scene: " + what + " is new, and needs every square");
+  }
+  std::vector<std::uint8_t> seen(whole ? static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) : 0, 0);
   for (const skidsim_lcm::scene_tile_t& t : tiles) {
-    const bool fits = t.i0 >= 0 && t.j0 >= 0 && t.ni > 0 && t.nj > 0 && t.ni <= kSceneTileCells && t.nj <= kSceneTileCells &&
-                      t.i0 + t.ni <= nx && t.j0 + t.nj <= ny && t.num_cells == t.ni * t.nj &&
+    const bool fits = t.ni > 0 && t.nj > 0 && t.ni <= kSceneTileCells && t.nj <= kSceneTileCells && t.i0 >= 0 && t.j0 >= 0 &&
+                      t.i0 <= nx - t.ni && t.j0 <= ny - t.nj && t.num_cells == t.ni * t.nj &&
                       static_cast<int>(t.surface_m.size()) == t.num_cells && t.num_flow == (flow ? t.num_cells : 0) &&
                       static_cast<int>(t.flow_dx.size()) == t.num_flow && static_cast<int>(t.flow_dy.size()) == t.num_flow &&
                       t.num_shows == (shows ? t.num_cells : 0) && static_cast<int>(t.shows.size()) == t.num_shows;
@@ -121,9 +126,18 @@ long long check_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, int n
       throw SceneStreamError("scene: " + what + ": a square at cell (" + std::to_string(t.i0) + ", " + std::to_string(t.j0) + "), " +
                              std::to_string(t.ni) + " x " + std::to_string(t.nj) + ", off the " + std::to_string(nx) + " x " +
                              std::to_string(ny) + " cells or not of its size");
-    covered += t.num_cells;
+    for (const float h : t.surface_m)
+      if (!(std::abs(h) < 1e6f)) throw SceneStreamError("scene: " + what + ": a surface that is not a finite height");
+    if (whole)
+      for (int j = t.j0; j < t.j0 + t.nj; ++j)
+        for (int i = t.i0; i < t.i0 + t.ni; ++i) {
+          std::uint8_t& once = seen[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i)];
+          if (once) throw SceneStreamError("scene: " + what + ": cell (" + std::to_string(i) + ", " + std::to_string(j) + ") sent twice");
+          once = 1;
+        }
   }
-  return covered;
+  if (whole && std::find(seen.begin(), seen.end(), 0) != seen.end())
+    throw SceneStreamError("scene: " + what + " is new, and needs every square");
 }
 
 void apply_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, const Cells& f) {
@@ -142,7 +156,77 @@ bool sized(int nx, int ny, double cell_m) {
          std::isfinite(cell_m);
 }
 
+// Walks a scene_t's encoding (LCM's: big-endian, a nested type without its
+// hash) checking that each count is at least 0 and its elements fit the
+// bytes left, before lcm-gen's decoder sizes anything by it.
+class CountCheck {
+ public:
+  CountCheck(const std::uint8_t* data, std::size_t size) : data_(data), left_(size) {}
+  bool skip(std::size_t bytes) {
+    if (bytes > left_) return false;
+    data_ += bytes, left_ -= bytes;
+    return true;
+  }
+  // A count of `bytes` bytes (2 or 4), then that many elements of `each` bytes.
+  bool count(std::size_t bytes, std::size_t each, long long* n = nullptr) {
+    if (bytes > left_) return false;
+    long long v = 0;
+    for (std::size_t k = 0; k < bytes; ++k) v = v << 8 | data_[k];
+    if (bytes == 2) v = static_cast<std::int16_t>(v);
+    if (bytes == 4) v = static_cast<std::int32_t>(v);
+    skip(bytes);
+    if (v < 0 || (each > 0 && static_cast<unsigned long long>(v) > left_ / each)) return false;
+    if (n) *n = v;
+    return each == 0 || skip(static_cast<std::size_t>(v) * each);
+  }
+  bool tile() {
+    long long cells = 0;
+    // i0, j0, ni, nj; the cells' surfaces; the flow's growth; which hold material
+    return skip(16) && count(4, 4, &cells) && count(4, 8) && count(4, 1);
+  }
+  bool tiles() {
+    long long n = 0;
+    if (!count(4, 0, &n) || static_cast<unsigned long long>(n) > left_ / kTileBytesAtLeast) return false;
+    for (long long k = 0; k < n; ++k)
+      if (!tile()) return false;
+    return true;
+  }
+  // A tile's fixed part (i0, j0, ni, nj and three counts).
+  static constexpr std::size_t kTileBytesAtLeast = 28;
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t left_;
+};
+
+bool counts_fit(const std::uint8_t* data, std::size_t size) {
+  CountCheck c(data, size);
+  // hash, step, time; links, trays, agents (12 doubles each)
+  if (!(c.skip(24) && c.count(2, 96) && c.count(2, 96) && c.count(2, 96))) return false;
+  // has_ground, nx, ny, cell, pose, ground_whole; its squares
+  if (!(c.skip(1 + 4 + 4 + 8 + 96 + 1) && c.tiles())) return false;
+  // has_bucket; the loads (pose, nx, ny, cell, their squares)
+  long long loads = 0;
+  if (!(c.skip(1) && c.count(2, 0, &loads))) return false;
+  for (long long k = 0; k < loads; ++k)
+    if (!(c.skip(96 + 4 + 4 + 8) && c.tiles())) return false;
+  // the parcels: where and how fast (3 floats each), their quanta
+  long long parcels = 0;
+  return c.count(4, 0, &parcels) && static_cast<unsigned long long>(parcels) <= size / 32;
+}
+
 }  // namespace
+
+void decode_scene(const std::uint8_t* data, std::size_t size, skidsim_lcm::scene_t& out) {
+  if (size > static_cast<std::size_t>(INT32_MAX) || !counts_fit(data, size))
+    throw SceneStreamError("scene: a message whose counts do not fit its " + std::to_string(size) + " bytes");
+  try {
+    if (out.decode(data, 0, static_cast<int>(size)) != static_cast<int>(size))
+      throw SceneStreamError("scene: a message that does not decode (" + std::to_string(size) + " bytes)");
+  } catch (const std::exception& e) {  // std::length_error, std::bad_alloc from lcm-gen's sizing
+    throw SceneStreamError(std::string("scene: a message that does not decode: ") + e.what());
+  }
+}
 
 const skidsim_lcm::scene_t& SceneStreamWriter::encode(const SceneFrame& f) {
   skidsim_lcm::scene_t& m = message_;
@@ -166,6 +250,7 @@ const skidsim_lcm::scene_t& SceneStreamWriter::encode(const SceneFrame& f) {
   m.ground_ny = f.has_ground ? f.ground.ny : 0;
   m.ground_cell_m = f.has_ground ? f.ground.cell_m : 0.0;
   put_pose(f.ground.pose, m.ground_pose);
+  m.ground_whole = f.has_ground && whole;
   m.tiles.clear();
   if (f.has_ground) {
     const bool flow = !f.flow_x.empty();
@@ -213,22 +298,23 @@ const skidsim_lcm::scene_t& SceneStreamWriter::encode(const SceneFrame& f) {
 void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
   // Everything is checked before anything changes: a message that does not
   // fit leaves the frame as it was.
+  if (!(std::isfinite(m.sim_time_s) && m.sim_time_s >= 0.0) ||
+      (ready_ && !(m.sim_time_s >= frame_.time_s && m.sim_time_s <= frame_.time_s + kMaxGapS)))
+    throw SceneStreamError("scene: time " + std::to_string(m.sim_time_s) + " s after a frame at " + std::to_string(frame_.time_s) +
+                           " s (times go forward, at most " + std::to_string(kMaxGapS) + " s at once)");
   const bool new_ground = !ready_ || m.has_ground != frame_.has_ground || m.ground_nx != frame_.ground.nx ||
                           m.ground_ny != frame_.ground.ny;
-  bool whole_ground = new_ground, flow = false;
+  const bool whole_ground = m.has_ground && (new_ground || m.ground_whole);
+  bool flow = false;
   if (m.has_ground) {
     if (!sized(m.ground_nx, m.ground_ny, m.ground_cell_m))
       throw SceneStreamError("scene: ground " + std::to_string(m.ground_nx) + " x " + std::to_string(m.ground_ny) +
                              " cells of " + std::to_string(m.ground_cell_m) + " m");
-    flow = !m.tiles.empty() ? m.tiles.front().num_flow > 0 : !frame_.flow_x.empty();
-    const long long covered = check_tiles(m.tiles, m.ground_nx, m.ground_ny, flow, false, "the ground");
-    const bool every = covered == static_cast<long long>(m.ground_nx) * m.ground_ny;
-    if (new_ground && !every)
-      throw SceneStreamError("scene: a new ground needs every square (" + std::to_string(covered) + " cells sent)");
-    // Every square starts afresh (the flow record on or off with it).
-    whole_ground = new_ground || every;
-    if (!whole_ground && flow != !frame_.flow_x.empty())
-      throw SceneStreamError("scene: the flow record came or went without every square");
+    if (new_ground && !m.ground_whole) throw SceneStreamError("scene: a new ground that is not sent whole");
+    if (!get_pose(m.ground_pose).matrix().allFinite()) throw SceneStreamError("scene: the ground's pose is not finite");
+    // A whole ground brings the flow record or not; a change keeps it as it was.
+    flow = whole_ground ? !m.tiles.empty() && m.tiles.front().num_flow > 0 : !frame_.flow_x.empty();
+    check_tiles(m.tiles, m.ground_nx, m.ground_ny, flow, false, whole_ground, "the ground");
   }
   const std::size_t loads = static_cast<std::size_t>(std::max<std::int16_t>(m.num_loads, 0));
   if (m.num_loads < 0 || m.loads.size() != loads || (m.has_bucket && loads == 0))
@@ -236,12 +322,10 @@ void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
   for (std::size_t k = 0; k < loads; ++k) {
     const skidsim_lcm::scene_field_t& l = m.loads[k];
     const std::string what = "load " + std::to_string(k);
-    if (!sized(l.nx, l.ny, l.cell_m) || l.num_tiles != static_cast<int>(l.tiles.size()))
+    if (!sized(l.nx, l.ny, l.cell_m) || l.num_tiles != static_cast<int>(l.tiles.size()) || !get_pose(l.pose).matrix().allFinite())
       throw SceneStreamError("scene: " + what + ", " + std::to_string(l.nx) + " x " + std::to_string(l.ny) + " cells");
-    const long long covered = check_tiles(l.tiles, l.nx, l.ny, false, true, what);
     const bool kept = ready_ && k < frame_.loads.size() && frame_.loads[k].nx == l.nx && frame_.loads[k].ny == l.ny;
-    if (!kept && covered != static_cast<long long>(l.nx) * l.ny)
-      throw SceneStreamError("scene: a new " + what + " needs every square (" + std::to_string(covered) + " cells sent)");
+    check_tiles(l.tiles, l.nx, l.ny, false, true, !kept, what);
   }
   const std::size_t parcels = static_cast<std::size_t>(std::max(m.num_parcels, 0));
   if (m.num_parcels < 0 || m.parcel_position_m.size() != parcels || m.parcel_velocity_m_s.size() != parcels ||

@@ -9,6 +9,7 @@
 // draws the pixels the session's own recording draws.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 
@@ -32,7 +33,7 @@ inline constexpr float kSceneSurfaceStepM = 0.0005f;
 // 2 km an int32 holds; more would go in the next).
 inline constexpr std::int64_t kSceneFlowUnitQuanta = 1024;
 // The flow record's growth that sends a square on its own: 0.1 mm of soil
-// across a face, a flow of 0.02 m/s over a message's 20 ms in a 5 cm cell
+// across a face, a flow of 0.01 m/s over a message's 40 ms in a 5 cm cell
 // (scene_snapshot's speeds), below what the eye follows; it goes, not lost,
 // with the square's next change.
 inline constexpr std::int64_t kSceneFlowStepQuanta = static_cast<std::int64_t>(1e-4 / terrain::kHeightQuantumM);
@@ -55,10 +56,19 @@ struct SceneStreamError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Decodes a scene_t from bytes (a log's event, a network packet) after
+// checking that every count in it fits the bytes there are, so that no
+// count makes the decoder allocate more than the message holds; throws
+// SceneStreamError otherwise.
+void decode_scene(const std::uint8_t* data, std::size_t size, skidsim_lcm::scene_t& out);
+
 class SceneStreamReader {
  public:
   // Applies one message; throws SceneStreamError naming what does not fit
-  // (the frame is then as before).
+  // (the frame is then as before): sizes and squares off their fields, a
+  // new ground or load not sent whole, numbers not finite, a time before
+  // the frame's or more than kMaxGapS after it.
+  static constexpr double kMaxGapS = 10.0;
   void apply(const skidsim_lcm::scene_t& message);
   // Whether a first message (the whole ground and loads) has been applied.
   bool ready() const { return ready_; }
