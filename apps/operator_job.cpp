@@ -10,6 +10,7 @@
 #include "session/control_message.h"
 #include "session/operator_player.h"
 #include "io/atomic_file.h"
+#include "io/exercise.h"
 #include "io/lcm_bridge.h"
 #include "skidsim_lcm/control_t.hpp"
 
@@ -22,8 +23,7 @@ int run_operator(const OperatorJob& job) {
   if (job.session.empty())
     throw io::InputError("--session: name the session to drive (skidsim run --session NAME, or the name it prints)");
   io::check_session_name(job.session, "--session");
-  if (job.control_channel.empty() || job.control_channel.size() > 30 ||
-      job.control_channel.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos)
+  if (job.control_channel.empty() || job.control_channel.size() > 30 || !io::channel_name_text(job.control_channel))
     throw io::InputError("--channel '" + job.control_channel + "': expected a base channel name, 1 to 30 of A-Z a-z 0-9 _ -");
   const io::LcmChannels channels = io::session_channels(job.session, job.control_channel);
   OperatorPlayer player(io::load_operator_script(job.script_path));

@@ -460,8 +460,7 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
         if (a.has("channel")) o.channel = a.text("channel", true);
         // A live session adds '@' and its name (within LCM's 63 bytes), and
         // LCM subscribes to a channel as a regular expression.
-        if (o.channel.empty() || o.channel.size() > 30 ||
-            o.channel.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos)
+        if (o.channel.empty() || o.channel.size() > 30 || !channel_name_text(o.channel))
           a.fail("attribute 'channel' must be 1 to 30 of A-Z a-z 0-9 _ - (a live session adds '@' and its name)");
         o.watchdog_s = a.has("watchdog_ms") ? a.number_in("watchdog_ms", 10.0, 10000.0) / 1000.0 : o.watchdog_s;
       } else if (source == "script") {

@@ -130,6 +130,12 @@ struct Scoring {
   std::vector<Metric> metrics;
   double pass_score = 0.0;
 };
+// The characters of an LCM channel's base name and of a live session's
+// name: LCM subscribes to a channel as a regular expression, so none that
+// means something there ('.' any character); '@' joins the two.
+inline constexpr const char* kChannelNameCharacters = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-";
+inline bool channel_name_text(const std::string& s) { return s.find_first_not_of(kChannelNameCharacters) == std::string::npos; }
+
 // Frames a second a recording or a view draws at most: the scene stream's
 // rate (session::kStepsPerScene, 25 a second).
 inline constexpr double kMaxRecordFps = 25.0;

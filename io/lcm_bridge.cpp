@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/exercise.h"
 
 namespace skidsim::io {
 
@@ -16,16 +17,14 @@ LcmChannels session_channels(const std::string& session, const std::string& cont
 }
 
 void check_session_name(const std::string& name, const std::string& option) {
-  const bool ok = !name.empty() && name.size() <= 32 && name.find_first_not_of(
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-") == std::string::npos;
+  const bool ok = !name.empty() && name.size() <= 32 && channel_name_text(name);
   if (!ok) throw InputError(option + " '" + name + "': expected 1 to 32 of A-Z a-z 0-9 _ -");
 }
 
 std::string default_session_name(const std::string& exercise_name) {
   std::string base;
   for (char ch : exercise_name.substr(0, 24)) {
-    const bool keep = (ch >= 'A' && ch <= 'Z') || (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_';
-    base += keep ? ch : '-';
+    base += channel_name_text(std::string(1, ch)) ? ch : '-';
   }
   return (base.empty() ? std::string("session") : base) + "-" + std::to_string(::getpid());
 }
