@@ -351,15 +351,23 @@ void add_session_tools(CLI::App& app, Commands& c) {
 
   c.view_cmd = app.add_subcommand(
       "view", "Draw a session from its scene stream without running the physics: frames from a camera at a\n"
-              "rate, from a run directory's session.lcmlog, the pixels `run --record` draws (view_<camera>_<fps>fps)");
-  c.view_cmd->add_option("source", c.view_job.source, "Run directory (of skidsim run), or a session.lcmlog with --exercise")->required();
+              "rate, from a run directory's session.lcmlog, the pixels `run --record` draws (view_<camera>_<fps>fps),\n"
+              "or live from a running session (--session NAME --exercise FILE)");
+  c.view_cmd->add_option("source", c.view_job.source, "Run directory (of skidsim run), or a session.lcmlog with --exercise");
   c.view_cmd->add_option("--camera", c.view_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
   c.view_cmd->add_option("--fps", c.view_job.fps, "Frames a second, at most 25 (default: the exercise's)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
   c.view_cmd->add_option("--width", c.view_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   c.view_cmd->add_option("--height", c.view_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   c.view_cmd->add_option("--backend", c.view_job.backend, "auto, egl or osmesa")->capture_default_str();
   c.view_cmd->add_option("--exercise", c.view_job.exercise_path, "The exercise file (default: the one report.json names)");
-  c.view_cmd->add_option("--out", c.view_job.out_dir, "Where the frames go (default: RUN_DIR/view_<camera>_<fps>fps)");
+  c.view_cmd->add_option("--out", c.view_job.out_dir, "Where the frames go (default: RUN_DIR/view_<camera>_<fps>fps; live:\n"
+                                                      "./view_<session>_<camera>_<fps>fps)");
+  c.view_cmd->add_option("--session", c.view_job.session, "Draw this live session (skidsim run --session NAME) over LCM,\n"
+                                                          "joining at any time, until it ends (needs --exercise)");
+  c.view_cmd->add_option("--lcm", c.view_job.lcm_url, "Live: the LCM provider URL (default: this host's multicast)");
+  c.view_cmd->add_option("--idle-s", c.view_job.idle_s, "Live: stop when no scene message came for this long (s)")->capture_default_str();
+  c.view_cmd->add_flag("--every-frame", c.view_job.every_frame, "Live: draw every frame due even when behind (default: skip\n"
+                                                                "to the latest)");
 
   c.batch_cmd = app.add_subcommand(
       "batch", "Run many sessions at once, each `skidsim run` of a line of LIST (its arguments; each needs\n"

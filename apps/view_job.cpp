@@ -1,17 +1,28 @@
 #include "apps/view_job.h"
 
+#include <lcm/lcm-cpp.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "io/atomic_file.h"
 #include "io/json_file.h"
+#include "io/lcm_bridge.h"
 #include "io/lcm_log.h"
 #include "io/loader_files.h"
 #include "io/run_directory.h"
 #include "io/soil_table.h"
+#include "jobs/interrupt.h"
+#include "session/session.h"
 #include "session/session_replay.h"
 #include "session/session_world.h"
 #include "visual/frame_recorder.h"
@@ -42,66 +53,261 @@ std::string fps_text(double fps) {
   return text;
 }
 
-}  // namespace
+// What a view draws with: the exercise's world, the view over the stream,
+// the recorder into a staged folder.
+struct Drawing {
+  io::Exercise exercise;
+  std::unique_ptr<engine::World> world;
+  std::string camera;
+  double fps = 0.0;
+  int width = 0, height = 0;
+  std::unique_ptr<visual::SceneView> view;
+  std::string out;
+  std::unique_ptr<io::StagedRunDirectory> out_dir;
+  std::unique_ptr<visual::FrameRecorder> recorder;
+};
 
-int run_view(const ViewJob& job) {
+void open_drawing(const ViewJob& job, const std::string& exercise_path, const std::string& default_out,
+                  visual::SceneStreamReader::Start start, Drawing& d) {
+  d.exercise = io::load_exercise(exercise_path);
+  const vehicle::LoaderDescription loader = io::load_loader(d.exercise.machine.loader);
+  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
+  d.camera = job.camera.empty() ? d.exercise.recording.camera : job.camera;
+  d.fps = job.fps > 0.0 ? job.fps : d.exercise.recording.fps;
+  d.width = job.width > 0 ? job.width : d.exercise.recording.width;
+  d.height = job.height > 0 ? job.height : d.exercise.recording.height;
+  if (!(d.fps >= 0.1 && d.fps <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
+  if (d.width < 16 || d.height < 16 || d.width > 8192 || d.height > 8192) throw io::InputError("--width / --height: expected 16 to 8192");
+  if (job.backend != "auto" && job.backend != "egl" && job.backend != "osmesa")
+    throw io::InputError("--backend '" + job.backend + "': expected auto, egl or osmesa");
+  // The world as the exercise builds it: its meshes and sizes (it never steps).
+  d.world = session::build_session_world(d.exercise, loader, soils);
+  try {
+    d.view = std::make_unique<visual::SceneView>(d.exercise, *d.world, d.camera, d.fps, start);
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(std::string("--camera: ") + e.what());
+  }
+  d.out = !job.out_dir.empty() ? job.out_dir : default_out + "_" + d.camera + "_" + fps_text(d.fps) + "fps";
+  d.out_dir = std::make_unique<io::StagedRunDirectory>(d.out, "view");
+  fs::create_directories(d.out_dir->staging() / "frames");
+  try {
+    d.recorder = std::make_unique<visual::FrameRecorder>((d.out_dir->staging() / "frames").string(), d.width, d.height, job.backend);
+  } catch (const std::runtime_error& e) {
+    throw io::InputError(std::string("view: ") + e.what());
+  }
+}
+
+// Waits for the frames, writes frames.json (`meta` and what every view
+// says) and a video (`video`: the frames have no gaps), and puts the folder
+// in place. Returns the video's name or "".
+std::string close_drawing(Drawing& d, json meta, bool video) {
+  const std::string error = d.recorder->finish();
+  if (!error.empty()) throw io::InputError("view: drawing stopped: " + error);
+  meta.update({{"frames", d.recorder->frames_written()}, {"fps", d.fps}, {"camera", d.camera}, {"width", d.width},
+               {"height", d.height}, {"renderer", d.recorder->renderer()}});
+  io::write_text_atomically((d.out_dir->staging() / "frames" / "frames.json").string(), meta.dump(2) + "\n");
+  const std::string name = video ? visual::encode_video(d.out_dir->staging().string(), d.fps) : "";
+  d.out_dir->commit();
+  return name;
+}
+
+int view_log(const ViewJob& job) {
   const fs::path source(job.source);
   const bool run_dir = fs::is_directory(source);
   const fs::path log_path = run_dir ? source / "session.lcmlog" : source;
   const fs::path run = run_dir ? source : source.parent_path();
   const std::string exercise_path = !job.exercise_path.empty() ? job.exercise_path : exercise_of_run(run);
+  // The log is checked whole, against the exercise, before a folder is made.
   const io::Exercise ex = io::load_exercise(exercise_path);
-  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
-  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
-  const session::SessionIdentity identity = session::session_identity(ex, loader, io::default_soil_table_path());
+  const session::SessionIdentity identity =
+      session::session_identity(ex, io::load_loader(ex.machine.loader), io::default_soil_table_path());
   const std::vector<io::LcmLogEvent> events = session::load_scene_events(log_path.string(), identity);
-
-  const std::string camera = job.camera.empty() ? ex.recording.camera : job.camera;
-  const double fps = job.fps > 0.0 ? job.fps : ex.recording.fps;
-  const int width = job.width > 0 ? job.width : ex.recording.width, height = job.height > 0 ? job.height : ex.recording.height;
-  if (!(fps >= 0.1 && fps <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
-  if (width < 16 || height < 16 || width > 8192 || height > 8192) throw io::InputError("--width / --height: expected 16 to 8192");
-  if (job.backend != "auto" && job.backend != "egl" && job.backend != "osmesa")
-    throw io::InputError("--backend '" + job.backend + "': expected auto, egl or osmesa");
-  // The world as the exercise builds it: its meshes and sizes (it never steps).
-  const std::unique_ptr<engine::World> world = session::build_session_world(ex, loader, soils);
-  std::unique_ptr<visual::SceneView> view;
-  try {
-    view = std::make_unique<visual::SceneView>(ex, *world, camera, fps);
-  } catch (const std::invalid_argument& e) {
-    throw io::InputError(std::string("--camera: ") + e.what());
-  }
-  const std::string out = !job.out_dir.empty() ? job.out_dir : (run / ("view_" + camera + "_" + fps_text(fps) + "fps")).string();
-  io::StagedRunDirectory out_dir(out, "view");
-  fs::create_directories(out_dir.staging() / "frames");
-  std::unique_ptr<visual::FrameRecorder> recorder;
-  try {
-    recorder = std::make_unique<visual::FrameRecorder>((out_dir.staging() / "frames").string(), width, height, job.backend);
-  } catch (const std::runtime_error& e) {
-    throw io::InputError(std::string("view: ") + e.what());
-  }
+  Drawing d;
+  open_drawing(job, exercise_path, (run / "view").string(), visual::SceneStreamReader::Start::kFirstMessage, d);
   for (const io::LcmLogEvent& e : events) {
     const std::string where = io::lcm_log_where(log_path.string(), e.data_offset_bytes, e.index);
     try {
       skidsim_lcm::scene_t m;
       visual::decode_scene(e.data.data(), e.data.size(), m);
-      for (int k = view->apply(m); k > 0; --k) recorder->submit(view->scene(), view->camera());
+      for (int k = d.view->apply(m); k > 0; --k) d.recorder->submit(d.view->scene(), d.view->camera());
     } catch (const visual::SceneStreamError& error) {
       throw io::InputError(where + error.what());
     }
   }
-  const std::string error = recorder->finish();
-  if (!error.empty()) throw io::InputError("view: drawing stopped: " + error);
-  const json meta = {{"frames", recorder->frames_written()}, {"fps", fps}, {"camera", camera}, {"width", width},
-                     {"height", height}, {"renderer", recorder->renderer()}, {"log", log_path.string()},
-                     {"scene_messages", events.size()}};
-  io::write_text_atomically((out_dir.staging() / "frames" / "frames.json").string(), meta.dump(2) + "\n");
-  const std::string video = visual::encode_video(out_dir.staging().string(), fps);
-  out_dir.commit();
-  std::cout << "view: " << recorder->frames_written() << " frames from " << camera << " at " << fps_text(fps) << " fps, drawn from "
-            << events.size() << " scene messages of " << log_path.string() << " into " << out << "/frames"
-            << (video.empty() ? "" : " (and " + video + ")") << "\n";
+  const std::string video =
+      close_drawing(d, {{"log", log_path.string()}, {"scene_messages", events.size()}}, true);
+  std::cout << "view: " << d.recorder->frames_written() << " frames from " << d.camera << " at " << fps_text(d.fps)
+            << " fps, drawn from " << events.size() << " scene messages of " << log_path.string() << " into " << d.out
+            << "/frames" << (video.empty() ? "" : " (and " + video + ")") << "\n";
   return 0;
+}
+
+// The live stream's messages as they arrive, handed from LCM's thread to
+// the view's: the scene's bytes, or that the session ended.
+struct Arrival {
+  bool end = false;  // the session's "end" event, in turn after its last scene message
+  std::vector<std::uint8_t> scene;
+};
+struct Inbox {
+  std::mutex mutex;
+  std::condition_variable arrived;
+  std::deque<Arrival> queue;
+  std::string scene_channel;
+  // On LCM's thread, where nothing may escape: an event that does not
+  // decode (lcm-gen's decoder throws on some) is not the end.
+  void on_message(const lcm::ReceiveBuffer* buffer, const std::string& channel) noexcept {
+    try {
+      const auto* bytes = static_cast<const std::uint8_t*>(buffer->data);
+      Arrival a;
+      if (channel == scene_channel) {
+        a.scene.assign(bytes, bytes + buffer->data_size);
+      } else {
+        skidsim_lcm::event_t e;
+        if (buffer->data_size > static_cast<std::uint32_t>(INT32_MAX) ||
+            e.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0 || e.kind != "end")
+          return;
+        a.end = true;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      queue.push_back(std::move(a));
+      arrived.notify_all();
+    } catch (const std::exception&) {
+    }
+  }
+};
+
+// A second of the stream refused in a row ends a live view.
+constexpr int kRefusedInARow = 25;
+
+int view_live(const ViewJob& job) {
+  const jobs::InterruptScope interrupt_scope;
+  io::check_session_name(job.session, "--session");
+  if (job.exercise_path.empty()) throw io::InputError("--exercise: a live view needs the session's exercise file");
+  if (!(job.idle_s > 0.0)) throw io::InputError("--idle-s: expected > 0");
+  const std::string url = job.lcm_url.empty() ? std::string(io::kDefaultLcmUrl) : job.lcm_url;
+  Drawing d;
+  open_drawing(job, job.exercise_path, "view_" + job.session, visual::SceneStreamReader::Start::kJoining, d);
+  lcm::LCM lcm(url);
+  if (!lcm.good()) throw io::InputError("LCM provider '" + url + "' could not be opened");
+  const io::LcmChannels channels = io::session_channels(job.session);
+  Inbox inbox;
+  inbox.scene_channel = channels.scene;
+  lcm.subscribe(channels.scene, &Inbox::on_message, &inbox);
+  lcm.subscribe(channels.events, &Inbox::on_message, &inbox);
+  // LCM's thread: takes messages off the network as they come, whatever
+  // the drawing is doing; stopped and joined however this function leaves.
+  struct Receiver {
+    std::atomic<bool> stop{false};
+    std::thread thread;
+    ~Receiver() {
+      stop = true;
+      if (thread.joinable()) thread.join();
+    }
+  } receiver;
+  receiver.thread = std::thread([&] {
+    while (!receiver.stop)
+      if (lcm.handleTimeout(100) < 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  });
+  std::cout << "view: listening to session " << job.session << " on " << url << std::endl;
+
+  // What the view saw: messages taken, refused (first reason), lost (a gap
+  // in the session's steps: where), frames drawn and skipped.
+  long messages = 0, refused = 0, refused_in_a_row = 0, lost = 0, skipped = 0;
+  std::int64_t first_step = -1, last_step = -1;
+  std::vector<std::int64_t> lost_after_steps;  // the first 1000 gaps
+  int first_frame = -1, last_drawn = -1;
+  std::string first_refusal, end = "silent";
+  // Idle counts from the last message taken (a view may start up to
+  // --idle-s before its session).
+  auto last_taken = std::chrono::steady_clock::now();
+  while (end == "silent") {
+    std::deque<Arrival> batch;
+    {
+      std::unique_lock<std::mutex> lock(inbox.mutex);
+      inbox.arrived.wait_for(lock, std::chrono::milliseconds(200), [&] { return !inbox.queue.empty(); });
+      batch.swap(inbox.queue);
+    }
+    if (jobs::interrupting_signal() != 0) {
+      end = "interrupted";
+      break;
+    }
+    int due_frame = -1;  // the latest frame due in this batch
+    for (const Arrival& a : batch) {
+      if (a.end) {
+        end = "session_ended";
+        break;
+      }
+      try {
+        skidsim_lcm::scene_t m;
+        visual::decode_scene(a.scene.data(), a.scene.size(), m);
+        const int due = d.view->apply(m);
+        refused_in_a_row = 0;
+        last_taken = std::chrono::steady_clock::now();
+        if (last_step >= 0 && m.step > last_step + session::kStepsPerScene) {
+          lost += (m.step - last_step) / session::kStepsPerScene - 1;
+          if (lost_after_steps.size() < 1000) lost_after_steps.push_back(last_step);
+        }
+        if (first_step < 0) first_step = m.step;
+        last_step = m.step;
+        ++messages;
+        if (due == 0) continue;
+        if (first_frame < 0) first_frame = d.view->frames() - due;
+        if (job.every_frame) {
+          for (int k = due; k > 0; --k) d.recorder->submit(d.view->scene(), d.view->camera(), d.view->frames() - k);
+          last_drawn = d.view->frames() - 1;
+        } else {
+          skipped += (due_frame >= 0 ? 1 : 0) + (due - 1);  // due, and not to be drawn
+          due_frame = d.view->frames() - 1;
+        }
+      } catch (const visual::SceneStreamError& error) {
+        // From the network: refused, the frame as it was; squares heal
+        // within the stream's refresh. A stream that keeps not fitting (a
+        // session started again under the name, another sender) ends the view.
+        if (refused++ == 0) first_refusal = error.what();
+        if (++refused_in_a_row >= kRefusedInARow) {
+          end = "refused";
+          break;
+        }
+      }
+    }
+    // Behind: only the latest frame due is drawn (the view's state has
+    // moved through every one, so the next frames are those a log draws).
+    if (due_frame >= 0) {
+      d.recorder->submit(d.view->scene(), d.view->camera(), due_frame);
+      last_drawn = due_frame;
+    }
+    if (end == "silent" && std::chrono::steady_clock::now() - last_taken > std::chrono::duration<double>(job.idle_s)) break;
+  }
+  receiver.stop = true;
+  receiver.thread.join();
+  const json meta = {{"session", job.session}, {"lcm_url", url}, {"end", end}, {"scene_messages", messages},
+                     {"messages_lost", lost}, {"lost_after_steps", lost_after_steps}, {"messages_refused", refused},
+                     {"first_refusal", first_refusal},
+                     {"first_step", first_step}, {"last_step", last_step}, {"first_frame", first_frame},
+                     {"last_frame", last_drawn}, {"frames_skipped", skipped}};
+  const std::string video = close_drawing(d, meta, first_frame == 0 && skipped == 0);
+  std::cout << "view: " << d.recorder->frames_written() << " frames of session " << job.session << " from " << d.camera
+            << " at " << fps_text(d.fps) << " fps (" << skipped << " skipped behind, " << lost << " messages lost, " << refused
+            << " refused) into " << d.out << "/frames" << (video.empty() ? "" : " (and " + video + ")") << "\n";
+  if (!first_refusal.empty()) std::cerr << "skidsim view: first refused: " << first_refusal << "\n";
+  if (end == "interrupted") throw jobs::Interrupted("view interrupted; the frames drawn are kept in " + d.out, jobs::interrupting_signal());
+  if (end == "silent") {
+    std::cerr << "skidsim view: no scene from session " << job.session << " for " << job.idle_s << " s; stopping\n";
+    return 1;
+  }
+  if (end == "refused") {
+    std::cerr << "skidsim view: " << kRefusedInARow << " scene messages in a row did not fit; stopping\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int run_view(const ViewJob& job) {
+  if (job.session.empty() == job.source.empty())
+    throw io::InputError("view: give a run directory (or a session.lcmlog), or --session NAME for a live session; not both");
+  return job.session.empty() ? view_log(job) : view_live(job);
 }
 
 }  // namespace skidsim::apps

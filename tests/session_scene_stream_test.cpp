@@ -51,13 +51,15 @@ bool near_flow(const std::vector<std::int64_t>& a, const std::vector<std::int64_
 // Whether the reader's frame is the captured one: poses and loads' cells
 // exactly, parcels in single precision, surfaces and the flow record within
 // the stream's steps.
-std::string difference(const visual::SceneFrame& a, const visual::SceneFrame& b) {
+// (A view that joined late counts the flow record from when it joined.)
+std::string difference(const visual::SceneFrame& a, const visual::SceneFrame& b, bool flow_record = true) {
   if (a.step != b.step || a.time_s != b.time_s) return "step";
   if (!same_poses(a.links, b.links)) return "links";
   if (!same_poses(a.trays, b.trays)) return "trays";
   if (!same_poses(a.agents, b.agents)) return "agents";
   if (a.has_ground != b.has_ground || !same_field(a.ground, b.ground)) return "ground";
-  if (!near_flow(a.flow_x, b.flow_x) || !near_flow(a.flow_y, b.flow_y)) return "flow record";
+  if (flow_record && (!near_flow(a.flow_x, b.flow_x) || !near_flow(a.flow_y, b.flow_y))) return "flow record";
+  if (a.flow_x.size() != b.flow_x.size()) return "flow record's size";
   if (a.has_bucket != b.has_bucket || a.loads.size() != b.loads.size()) return "loads";
   for (std::size_t k = 0; k < a.loads.size(); ++k)
     if (!same_field(a.loads[k], b.loads[k])) return "load " + std::to_string(k);
@@ -69,9 +71,16 @@ std::string difference(const visual::SceneFrame& a, const visual::SceneFrame& b)
   return "";
 }
 
+// A view joining the stream late (a live view started after the session):
+// from message kJoinAt on, as a reader that never saw the first.
+constexpr int kJoinAt = 250;
+
 struct Captured : SessionOutput {
   const engine::World* world = nullptr;
   visual::SceneStreamReader reader;
+  visual::SceneStreamReader joiner{visual::SceneStreamReader::Start::kJoining};
+  int joiner_ready_after = -1, joiner_mismatches = 0;
+  std::string joiner_first_mismatch;
   visual::SceneFrame frame;
   int messages = 0, mismatches = 0, with_parcels = 0, with_load = 0;
   std::size_t bytes = 0, tiles = 0, first_bytes = 0, load_bytes = 0, parcels = 0, poses = 0;
@@ -86,6 +95,12 @@ struct Captured : SessionOutput {
     visual::capture_frame(*world, frame);
     const std::string d = difference(reader.frame(), frame);
     if (!d.empty() && mismatches++ == 0) first_mismatch = d + " at " + std::to_string(m.sim_time_s) + " s";
+    if (messages >= kJoinAt) {
+      joiner.apply(decoded);
+      if (joiner.ready() && joiner_ready_after < 0) joiner_ready_after = messages - kJoinAt + 1;
+      const std::string dj = joiner.ready() ? difference(joiner.frame(), frame, false) : "";
+      if (!dj.empty() && joiner_mismatches++ == 0) joiner_first_mismatch = dj + " at " + std::to_string(m.sim_time_s) + " s";
+    }
     if (messages == 0) first_bytes = buffer.size();
     ++messages;
     bytes += buffer.size();
@@ -127,6 +142,12 @@ TEST(SceneStream, ASessionsFramesArriveExactlyThroughTheStream) {
   EXPECT_GT(out.with_load, 0);
   ASSERT_TRUE(out.reader.ready());
   EXPECT_FALSE(out.reader.frame().flow_x.empty()) << "the flow record travels for the sand's texture and dust";
+  // Joining late: the whole picture within one refresh cycle, exact from then on.
+  std::printf("[ measured ] a view joining at message %d holds the whole picture after %d messages\n", kJoinAt,
+              out.joiner_ready_after);
+  EXPECT_GT(out.joiner_ready_after, 0);
+  EXPECT_LE(out.joiner_ready_after, visual::kSceneRefreshMessages);
+  EXPECT_EQ(out.joiner_mismatches, 0) << "first: " << out.joiner_first_mismatch;
 }
 
 // Messages that do not fit are refused naming what, and the frame stays.
@@ -195,4 +216,45 @@ TEST(SceneStream, AMessageThatDoesNotFitIsRefusedAndChangesNothing) {
 }
 
 }  // namespace
+// Joining (a live view started late): squares kept as they come, the frame
+// ready once every cell of the ground and the loads has come: within one
+// refresh of the stream, the squares of a still world going again in turn.
+TEST(SceneStream, AJoiningReaderIsReadyOnceEveryCellHasCome) {
+  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
+  const io::Exercise ex = io::load_exercise(kSource + "/scenarios/truck_loading.xml");
+  SessionOptions options;
+  options.scene_stream = true;
+  Session session(ex, io::load_loader(ex.machine.loader), soils, options);
+  visual::SceneFrame frame;
+  visual::capture_frame(session.world(), frame);
+  visual::SceneStreamWriter writer;
+  (void)writer.encode(frame);  // the first, whole: missed
+  visual::SceneStreamReader joiner(visual::SceneStreamReader::Start::kJoining);
+  // A message with none of the ground's squares leaves it waiting.
+  skidsim_lcm::scene_t bare = writer.encode(frame);
+  bare.tiles.clear(), bare.num_tiles = 0;
+  joiner.apply(bare);
+  EXPECT_FALSE(joiner.ready());
+  int messages = 1;
+  while (!joiner.ready() && messages < 10 * visual::kSceneRefreshMessages) {
+    skidsim_lcm::scene_t m = writer.encode(frame);
+    m.sim_time_s = 0.04 * ++messages;
+    if (messages == 3) {
+      // A square whose flow record disagrees with the ground's is refused,
+      // the frame as it was.
+      skidsim_lcm::scene_t odd = m;
+      ASSERT_FALSE(odd.tiles.empty());
+      odd.tiles.front().num_flow = 0, odd.tiles.front().flow_dx.clear(), odd.tiles.front().flow_dy.clear();
+      EXPECT_THROW(joiner.apply(odd), visual::SceneStreamError);
+    }
+    joiner.apply(m);
+  }
+  std::printf("[ measured ] a joining reader of a still truck-loading site was ready after %d messages\n", messages);
+  EXPECT_LE(messages, visual::kSceneRefreshMessages + 1);
+  ASSERT_TRUE(joiner.ready());
+  EXPECT_EQ(joiner.frame().ground.surface_m, frame.ground.surface_m);
+  ASSERT_EQ(joiner.frame().loads.size(), frame.loads.size());
+  for (std::size_t k = 0; k < frame.loads.size(); ++k) EXPECT_EQ(joiner.frame().loads[k].shows, frame.loads[k].shows);
+}
+
 }  // namespace skidsim::session

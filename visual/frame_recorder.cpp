@@ -40,11 +40,11 @@ FrameRecorder::~FrameRecorder() {
   if (thread_.joinable()) thread_.join();
 }
 
-void FrameRecorder::submit(render::Scene scene, const render::Camera& camera) {
+void FrameRecorder::submit(render::Scene scene, const render::Camera& camera, int number) {
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [this] { return queue_.size() < kMaxQueued || !error_.empty(); });
   if (!error_.empty()) return;  // reported by finish()
-  queue_.emplace_back(std::move(scene), camera);
+  queue_.push_back(Job{std::move(scene), camera, number});
   changed_.notify_all();
 }
 
@@ -83,7 +83,7 @@ void FrameRecorder::run() {
     image.width = width_;
     image.height = height_;
     for (;;) {
-      std::pair<render::Scene, render::Camera> job;
+      Job job;
       {
         std::unique_lock<std::mutex> lock(mutex_);
         changed_.wait(lock, [this] { return !queue_.empty() || closing_; });
@@ -92,9 +92,9 @@ void FrameRecorder::run() {
         queue_.pop_front();
       }
       changed_.notify_all();
-      image.rgb = render::render_rgb(*context, renderer, job.first, job.second);
+      image.rgb = render::render_rgb(*context, renderer, job.scene, job.camera);
       char name[32];
-      std::snprintf(name, sizeof name, "/frame_%06d.png", written_);
+      std::snprintf(name, sizeof name, "/frame_%06d.png", job.number >= 0 ? job.number : written_);
       io::write_png_rgb8(dir_ + name, image, 1);
       std::lock_guard<std::mutex> lock(mutex_);
       ++written_;

@@ -25,7 +25,9 @@ class FrameRecorder {
   FrameRecorder(const FrameRecorder&) = delete;
   FrameRecorder& operator=(const FrameRecorder&) = delete;
 
-  void submit(render::Scene scene, const render::Camera& camera);
+  // The frame goes to frame_<number>.png; -1: the next after those written
+  // (a live view names its frames by their time and may skip some).
+  void submit(render::Scene scene, const render::Camera& camera, int number = -1);
   // Waits for every frame to be written. Returns "" or, if the recorder
   // failed on the way (a full disk), why: the frames up to there remain, and
   // the session is not lost for it.
@@ -40,7 +42,12 @@ class FrameRecorder {
   int width_, height_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
-  std::deque<std::pair<render::Scene, render::Camera>> queue_;
+  struct Job {
+    render::Scene scene;
+    render::Camera camera;
+    int number;
+  };
+  std::deque<Job> queue_;
   bool closing_ = false, started_ = false;
   int written_ = 0;
   std::string error_, renderer_;

@@ -23,7 +23,7 @@ constexpr double kNoiseDriftMS = 0.5;             // the noise space's drift (se
 
 }  // namespace
 
-DustSystem::DustSystem(std::uint64_t seed, std::size_t capacity) : noise_(seed), state_(seed), capacity_(capacity) {
+DustSystem::DustSystem(std::uint64_t seed, std::size_t capacity) : noise_(seed), seed_(seed), state_(seed), capacity_(capacity) {
   puffs_.reserve(capacity);
 }
 
@@ -50,8 +50,15 @@ void DustSystem::spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocit
 void DustSystem::advance(const SceneLayout& layout, const SceneFrame& frame, const std::vector<Eigen::Vector2f>* ground_flow_m_s,
                          double dt_s) {
   if (!(dt_s > 0.0)) return;
-  time_s_ += dt_s;
-  budget_ = std::min(budget_ + kMaxNewPuffsPerS * dt_s, kMaxNewPuffsPerS * 0.2);
+  // The stream's time, a generator drawn afresh from the frame's step, and
+  // the frame's own allowance of new puffs (250 a second live 3.5 s at
+  // most, far from the capacity): what starts at a frame depends on that
+  // frame alone, so a view that joined a live session late draws, once the
+  // puffs from before it joined have faded, the dust a view of the whole
+  // session draws.
+  time_s_ = frame.time_s;
+  state_ = seed_ ^ (static_cast<std::uint64_t>(frame.step) * 0xD1B54A32D192ED03ull);
+  budget_ = std::min(kMaxNewPuffsPerS * dt_s, kMaxNewPuffsPerS * 0.2);  // this frame's own (0.2 s at most), none saved
   // Parcels about to land raise dust radially, faster and more of it the
   // higher they fell; parcels just off their body raise a little.
   {

@@ -5,7 +5,8 @@
 // leaves a body, and where the ground's surface slides fast. Each puff is
 // carried by turbulent air (seed 001: turbulence sampled at a point that
 // drifts through the noise with time), grows and fades. Only the frames
-// see it: the simulation is not changed. Deterministic (a seeded generator).
+// see it: the simulation is not changed. Deterministic: a generator seeded
+// by each frame's step, and the stream's time.
 #pragma once
 
 #include <cstdint>
@@ -42,10 +43,10 @@ class DustSystem {
   void spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocity, double radius_m, double opacity);
 
   render::SolidNoise noise_;
-  std::uint64_t state_;
+  std::uint64_t seed_, state_;
   std::size_t capacity_;
   double time_s_ = 0.0;
-  double budget_ = 0.0;  // puffs that may still start: kMaxNewPuffsPerS, a little saved up
+  double budget_ = 0.0;  // puffs that may still start this frame: kMaxNewPuffsPerS over its time
   std::vector<Puff> puffs_;
 };
 

@@ -67,14 +67,27 @@ struct CellsOf {
 using Cells = CellsOf<false>;
 using ConstCells = CellsOf<true>;
 
+int tiles_across(int n) { return (n + kSceneTileCells - 1) / kSceneTileCells; }
+std::int64_t tiles_of(int nx, int ny) { return static_cast<std::int64_t>(tiles_across(nx)) * tiles_across(ny); }
+
+// The squares a message sends again in turn: `count` of them from `first`,
+// in the numbering over the ground's squares, then each load's, `total` in all.
+struct Refresh {
+  std::int64_t first = 0, count = 0, total = 1;
+  bool due(std::int64_t square) const { return ((square - first) % total + total) % total < count; }
+};
+
 // Appends the squares of `now` where a cell differs from `sent` by a step
-// worth sending (all of them when `whole`), every cell of each exactly, and
-// makes `sent` what was sent.
-void append_changed_tiles(const ConstCells& now, const Cells& sent, bool whole, std::vector<skidsim_lcm::scene_tile_t>& out) {
+// worth sending (all of them when `whole`), and those the refresh has due
+// (numbered from `square`, which moves past this field's), every cell of
+// each exactly, and makes `sent` what was sent.
+void append_changed_tiles(const ConstCells& now, const Cells& sent, bool whole, const Refresh& refresh, std::int64_t& square,
+                          std::vector<skidsim_lcm::scene_tile_t>& out) {
   for (int j0 = 0; j0 < now.ny; j0 += kSceneTileCells)
     for (int i0 = 0; i0 < now.nx; i0 += kSceneTileCells) {
       const int ni = std::min(kSceneTileCells, now.nx - i0), nj = std::min(kSceneTileCells, now.ny - j0);
-      bool changed = whole;
+      const bool due = refresh.due(square++);  // numbered whether or not the field goes whole
+      bool changed = whole || due;
       for (int j = j0; j < j0 + nj && !changed; ++j)
         for (int i = i0; i < i0 + ni && !changed; ++i) {
           const std::size_t c = now.at(i, j);
@@ -138,6 +151,16 @@ void check_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, int nx, in
   }
   if (whole && std::find(seen.begin(), seen.end(), 0) != seen.end())
     throw SceneStreamError("scene: " + what + " is new, and needs every square");
+}
+
+// Counts the cells the tiles bring that had not come before (joining).
+void mark_known(const std::vector<skidsim_lcm::scene_tile_t>& tiles, int nx, std::vector<std::uint8_t>& known, std::size_t& missing) {
+  for (const skidsim_lcm::scene_tile_t& t : tiles)
+    for (int j = t.j0; j < t.j0 + t.nj; ++j)
+      for (int i = t.i0; i < t.i0 + t.ni; ++i) {
+        std::uint8_t& k = known[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i)];
+        if (!k) k = 1, --missing;
+      }
 }
 
 void apply_tiles(const std::vector<skidsim_lcm::scene_tile_t>& tiles, const Cells& f) {
@@ -251,13 +274,25 @@ const skidsim_lcm::scene_t& SceneStreamWriter::encode(const SceneFrame& f) {
   m.ground_cell_m = f.has_ground ? f.ground.cell_m : 0.0;
   put_pose(f.ground.pose, m.ground_pose);
   m.ground_whole = f.has_ground && whole;
+  // The squares sent again with this message, in turn.
+  Refresh refresh;
+  refresh.total = f.has_ground ? tiles_of(f.ground.nx, f.ground.ny) : 0;
+  for (const FrameField& load : f.loads) refresh.total += tiles_of(load.nx, load.ny);
+  if (refresh.total > 0) {
+    refresh.first = refresh_next_ % refresh.total;
+    refresh.count = (refresh.total + kSceneRefreshMessages - 1) / kSceneRefreshMessages;
+    refresh_next_ = (refresh.first + refresh.count) % refresh.total;
+  } else {
+    refresh.total = 1;
+  }
+  std::int64_t square = 0;
   m.tiles.clear();
   if (f.has_ground) {
     const bool flow = !f.flow_x.empty();
     append_changed_tiles({f.ground.nx, f.ground.ny, &f.ground.surface_m, nullptr, flow ? &f.flow_x : nullptr, flow ? &f.flow_y : nullptr},
                          {f.ground.nx, f.ground.ny, &sent_.ground.surface_m, nullptr, flow ? &sent_.flow_x : nullptr,
                           flow ? &sent_.flow_y : nullptr},
-                         whole, m.tiles);
+                         whole, refresh, square, m.tiles);
   }
   m.num_tiles = static_cast<std::int32_t>(m.tiles.size());
   // The loads: a new or resized one goes whole.
@@ -275,7 +310,7 @@ const skidsim_lcm::scene_t& SceneStreamWriter::encode(const SceneFrame& f) {
     out.nx = load.nx, out.ny = load.ny, out.cell_m = load.cell_m;
     out.tiles.clear();
     append_changed_tiles({load.nx, load.ny, &load.surface_m, &load.shows, nullptr, nullptr},
-                         {load.nx, load.ny, &sent.surface_m, &sent.shows, nullptr, nullptr}, new_load, out.tiles);
+                         {load.nx, load.ny, &sent.surface_m, &sent.shows, nullptr, nullptr}, new_load, refresh, square, out.tiles);
     out.num_tiles = static_cast<std::int32_t>(out.tiles.size());
   }
   m.num_parcels = static_cast<std::int32_t>(f.parcels.size());
@@ -295,26 +330,38 @@ const skidsim_lcm::scene_t& SceneStreamWriter::encode(const SceneFrame& f) {
   return m;
 }
 
+bool SceneStreamReader::ready() const {
+  if (!started_ || ground_waiting_ || ground_missing_ > 0) return false;
+  for (const std::size_t missing : load_missing_)
+    if (missing > 0) return false;
+  return true;
+}
+
 void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
   // Everything is checked before anything changes: a message that does not
   // fit leaves the frame as it was.
   if (!(std::isfinite(m.sim_time_s) && m.sim_time_s >= 0.0) ||
-      (ready_ && !(m.sim_time_s >= frame_.time_s && m.sim_time_s <= frame_.time_s + kMaxGapS)))
+      (started_ && !(m.sim_time_s >= frame_.time_s && m.sim_time_s <= frame_.time_s + kMaxGapS)))
     throw SceneStreamError("scene: time " + std::to_string(m.sim_time_s) + " s after a frame at " + std::to_string(frame_.time_s) +
                            " s (times go forward, at most " + std::to_string(kMaxGapS) + " s at once)");
-  const bool new_ground = !ready_ || m.has_ground != frame_.has_ground || m.ground_nx != frame_.ground.nx ||
+  const bool new_ground = !started_ || m.has_ground != frame_.has_ground || m.ground_nx != frame_.ground.nx ||
                           m.ground_ny != frame_.ground.ny;
-  const bool whole_ground = m.has_ground && (new_ground || m.ground_whole);
+  // A ground not held before starts afresh: from a whole one, or (joining)
+  // from the squares that come; joining, a new ground whose message brings
+  // none of its squares waits for one that does (which tells whether the
+  // flow record comes with it).
+  const bool take_ground = m.has_ground && !(joining_ && new_ground && !m.ground_whole && m.tiles.empty());
+  const bool fresh_ground = take_ground && (new_ground || m.ground_whole);
   bool flow = false;
   if (m.has_ground) {
     if (!sized(m.ground_nx, m.ground_ny, m.ground_cell_m))
       throw SceneStreamError("scene: ground " + std::to_string(m.ground_nx) + " x " + std::to_string(m.ground_ny) +
                              " cells of " + std::to_string(m.ground_cell_m) + " m");
-    if (new_ground && !m.ground_whole) throw SceneStreamError("scene: a new ground that is not sent whole");
+    if (!joining_ && new_ground && !m.ground_whole) throw SceneStreamError("scene: a new ground that is not sent whole");
     if (!get_pose(m.ground_pose).matrix().allFinite()) throw SceneStreamError("scene: the ground's pose is not finite");
-    // A whole ground brings the flow record or not; a change keeps it as it was.
-    flow = whole_ground ? !m.tiles.empty() && m.tiles.front().num_flow > 0 : !frame_.flow_x.empty();
-    check_tiles(m.tiles, m.ground_nx, m.ground_ny, flow, false, whole_ground, "the ground");
+    // A fresh ground brings the flow record or not; a change keeps it as it was.
+    flow = fresh_ground ? !m.tiles.empty() && m.tiles.front().num_flow > 0 : !frame_.flow_x.empty();
+    check_tiles(m.tiles, m.ground_nx, m.ground_ny, flow, false, m.ground_whole, "the ground");
   }
   const std::size_t loads = static_cast<std::size_t>(std::max<std::int16_t>(m.num_loads, 0));
   if (m.num_loads < 0 || m.loads.size() != loads || (m.has_bucket && loads == 0))
@@ -324,8 +371,8 @@ void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
     const std::string what = "load " + std::to_string(k);
     if (!sized(l.nx, l.ny, l.cell_m) || l.num_tiles != static_cast<int>(l.tiles.size()) || !get_pose(l.pose).matrix().allFinite())
       throw SceneStreamError("scene: " + what + ", " + std::to_string(l.nx) + " x " + std::to_string(l.ny) + " cells");
-    const bool kept = ready_ && k < frame_.loads.size() && frame_.loads[k].nx == l.nx && frame_.loads[k].ny == l.ny;
-    check_tiles(l.tiles, l.nx, l.ny, false, true, !kept, what);
+    const bool kept = started_ && k < frame_.loads.size() && frame_.loads[k].nx == l.nx && frame_.loads[k].ny == l.ny;
+    check_tiles(l.tiles, l.nx, l.ny, false, true, !kept && !joining_, what);
   }
   const std::size_t parcels = static_cast<std::size_t>(std::max(m.num_parcels, 0));
   if (m.num_parcels < 0 || m.parcel_position_m.size() != parcels || m.parcel_velocity_m_s.size() != parcels ||
@@ -350,24 +397,29 @@ void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
   frame_.links.swap(poses.links);
   frame_.trays.swap(poses.trays);
   frame_.agents.swap(poses.agents);
-  frame_.has_ground = m.has_ground;
-  if (m.has_ground) {
+  ground_waiting_ = m.has_ground && !take_ground;
+  frame_.has_ground = take_ground;
+  if (take_ground) {
     FrameField& g = frame_.ground;
-    if (whole_ground) {
+    if (fresh_ground) {
       g.nx = m.ground_nx, g.ny = m.ground_ny;
       g.surface_m.assign(static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny), 0.0f);
       frame_.flow_x.assign(flow ? g.surface_m.size() : 0, 0);
       frame_.flow_y.assign(flow ? g.surface_m.size() : 0, 0);
+      if (joining_) ground_known_.assign(g.surface_m.size(), 0), ground_missing_ = g.surface_m.size();
     }
     g.cell_m = m.ground_cell_m;
     g.pose = get_pose(m.ground_pose);
     apply_tiles(m.tiles, {g.nx, g.ny, &g.surface_m, nullptr, flow ? &frame_.flow_x : nullptr, flow ? &frame_.flow_y : nullptr});
+    if (joining_) mark_known(m.tiles, g.nx, ground_known_, ground_missing_);
   } else {
     frame_.ground = FrameField{};
     frame_.flow_x.clear(), frame_.flow_y.clear();
+    ground_known_.clear(), ground_missing_ = 0;
   }
   frame_.has_bucket = m.has_bucket;
   frame_.loads.resize(loads);
+  if (joining_) loads_known_.resize(loads), load_missing_.resize(loads, 0);
   for (std::size_t k = 0; k < loads; ++k) {
     const skidsim_lcm::scene_field_t& l = m.loads[k];
     FrameField& f = frame_.loads[k];
@@ -375,10 +427,12 @@ void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
       f.nx = l.nx, f.ny = l.ny;
       f.surface_m.assign(static_cast<std::size_t>(f.nx) * static_cast<std::size_t>(f.ny), 0.0f);
       f.shows.assign(f.surface_m.size(), 0);
+      if (joining_) loads_known_[k].assign(f.surface_m.size(), 0), load_missing_[k] = f.surface_m.size();
     }
     f.pose = get_pose(l.pose);
     f.cell_m = l.cell_m;
     apply_tiles(l.tiles, {f.nx, f.ny, &f.surface_m, &f.shows, nullptr, nullptr});
+    if (joining_) mark_known(l.tiles, f.nx, loads_known_[k], load_missing_[k]);
   }
   frame_.parcels.resize(parcels);
   for (std::size_t k = 0; k < parcels; ++k) {
@@ -387,7 +441,7 @@ void SceneStreamReader::apply(const skidsim_lcm::scene_t& m) {
     frame_.parcels[k] = {Eigen::Vector3f(p[0], p[1], p[2]).cast<double>(), Eigen::Vector3f(v[0], v[1], v[2]).cast<double>(),
                          m.parcel_quanta[k]};
   }
-  ready_ = true;
+  started_ = true;
 }
 
 }  // namespace skidsim::visual

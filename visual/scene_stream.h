@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "skidsim_lcm/scene_t.hpp"
 #include "visual/scene_frame.h"
@@ -38,15 +39,26 @@ inline constexpr std::int64_t kSceneFlowUnitQuanta = 1024;
 // with the square's next change.
 inline constexpr std::int64_t kSceneFlowStepQuanta = static_cast<std::int64_t>(1e-4 / terrain::kHeightQuantumM);
 
+// Every square of the ground and the loads goes again at least once in this
+// many messages (5 s at the stream's 25 a second), a few with each message
+// besides those that changed: a view that joins a live session late, or
+// loses a message to the network, holds the whole picture again within
+// them, without a burst the size of the whole ground (432 kB while truck
+// loading, beyond a host's default UDP receive buffer). It adds a fifth of
+// the whole ground's size a second to the stream (docs/rendering.md).
+inline constexpr int kSceneRefreshMessages = 125;
+
 class SceneStreamWriter {
  public:
   // The message for `frame`: its ground's squares and its loads that differ
-  // from those sent before (every one the first time). Valid until the next call.
+  // from those sent before (every one the first time), and the next of the
+  // squares sent again in turn (kSceneRefreshMessages). Valid until the next call.
   const skidsim_lcm::scene_t& encode(const SceneFrame& frame);
 
  private:
   bool first_ = true;
   SceneFrame sent_;
+  std::int64_t refresh_next_ = 0;  // the square sent again next, counting the ground's, then each load's
   skidsim_lcm::scene_t message_;
 };
 
@@ -64,19 +76,31 @@ void decode_scene(const std::uint8_t* data, std::size_t size, skidsim_lcm::scene
 
 class SceneStreamReader {
  public:
+  // From the stream's first message (a log): a new ground or load must come
+  // whole. Joining (a live view): from any message; a field's squares are
+  // kept as they come, and the frame is ready once every cell has come.
+  enum class Start { kFirstMessage, kJoining };
+  explicit SceneStreamReader(Start start = Start::kFirstMessage) : joining_(start == Start::kJoining) {}
   // Applies one message; throws SceneStreamError naming what does not fit
   // (the frame is then as before): sizes and squares off their fields, a
-  // new ground or load not sent whole, numbers not finite, a time before
-  // the frame's or more than kMaxGapS after it.
+  // new ground or load not sent whole (unless joining), numbers not
+  // finite, a time before the frame's or more than kMaxGapS after it.
   static constexpr double kMaxGapS = 10.0;
   void apply(const skidsim_lcm::scene_t& message);
-  // Whether a first message (the whole ground and loads) has been applied.
-  bool ready() const { return ready_; }
+  // Whether the frame holds every cell of the ground and the loads.
+  bool ready() const;
   const SceneFrame& frame() const { return frame_; }
 
  private:
-  bool ready_ = false;
+  bool joining_;
+  bool started_ = false;  // a message has been applied
   SceneFrame frame_;
+  // The cells that have come (joining), the ground's and each load's.
+  std::vector<std::uint8_t> ground_known_;
+  std::vector<std::vector<std::uint8_t>> loads_known_;
+  std::size_t ground_missing_ = 0;
+  std::vector<std::size_t> load_missing_;
+  bool ground_waiting_ = false;  // joining: a ground none of whose squares has come
 };
 
 }  // namespace skidsim::visual

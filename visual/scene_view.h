@@ -4,6 +4,8 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/exercise.h"
 #include "render/scene.h"
@@ -16,15 +18,24 @@ class SceneView {
  public:
   // `world` as the exercise builds it (the meshes, the beds' sizes); camera
   // cab, chase, aerial or fixed (std::invalid_argument otherwise); fps > 0.
-  SceneView(const io::Exercise& exercise, const engine::World& world, std::string camera, double fps);
+  // `start`: from the stream's first message (a log), or joining a live
+  // stream, whose frames begin once the picture is whole.
+  SceneView(const io::Exercise& exercise, const engine::World& world, std::string camera, double fps,
+            SceneStreamReader::Start start = SceneStreamReader::Start::kFirstMessage);
   // Applies one message (SceneStreamError as SceneStreamReader::apply, and
-  // when its links, beds, agents, loads or ground are not the world's).
+  // when its links, beds, agents, loads or ground, or their sizes, are not
+  // the world's, or its time beyond 10^8 frames).
   // Returns how many frames are due at it (those due at or before it not
   // yet drawn: one at most at the stream's rate or below); scene() and
-  // camera() then show it.
+  // camera() then show it. Frame k is due at the first message at or after
+  // k / fps; joining, the first is the first due once the picture is whole
+  // (again, should it stop being whole).
   int apply(const skidsim_lcm::scene_t& message);
+  // The last frame due, and the camera that draws it.
   const render::Scene& scene() const { return scene_; }
-  render::Camera camera() const;
+  const render::Camera& camera() const { return frame_camera_; }
+  // The frames due so far, counted from the stream's time 0 (the next
+  // frame's number).
   int frames() const { return frames_; }
 
  private:
@@ -32,13 +43,18 @@ class SceneView {
   std::string camera_;
   double fps_;
   render::Scene scene_;
+  render::Camera frame_camera_;
   SceneLayout layout_;
   SceneStreamReader reader_;
   SceneHistory history_;
   int frames_ = 0;
-  // What the exercise's world has, which every message must match.
+  bool joining_;
+  // What the exercise's world has, which every message must match: its
+  // counts and its fields' sizes (the ground's, the bucket's, each bed's).
   std::size_t links_ = 0, trays_ = 0, agents_ = 0, loads_ = 0;
   bool ground_ = false;
+  int ground_nx_ = 0, ground_ny_ = 0;
+  std::vector<std::pair<int, int>> load_sizes_;
 };
 
 }  // namespace skidsim::visual
