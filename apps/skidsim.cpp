@@ -18,6 +18,7 @@
 #include "apps/render_job.h"
 #include "apps/review_job.h"
 #include "apps/view_job.h"
+#include "station/station.h"
 #include "apps/batch_job.h"
 #include "report/perf_report.h"
 #include "apps/run_job.h"
@@ -222,6 +223,7 @@ struct Commands {
   skidsim::apps::ViewJob view_job{};
   skidsim::apps::BatchJob batch_job{};
   skidsim::apps::OperatorJob operator_job{};
+  skidsim::station::StationOptions station_job{};
   bool bench_json = false;
   double bench_min_time = 0.0;
   skidsim::report::PerfReportJob report_job{};
@@ -240,6 +242,7 @@ struct Commands {
   CLI::App* view_cmd = nullptr;
   CLI::App* batch_cmd = nullptr;
   CLI::App* operator_cmd = nullptr;
+  CLI::App* station_cmd = nullptr;
   CLI::App* bench_cmd = nullptr;
   CLI::App* report_cmd = nullptr;
   CLI::App* check_cmd = nullptr;
@@ -366,6 +369,23 @@ void add_session_tools(CLI::App& app, Commands& c) {
                                                           "joining at any time, until it ends (needs --exercise)");
   c.view_cmd->add_option("--lcm", c.view_job.lcm_url, "Live: the LCM provider URL (default: this host's multicast)");
   c.view_cmd->add_option("--idle-s", c.view_job.idle_s, "Live: stop when no scene message came for this long (s)")->capture_default_str();
+  c.station_cmd = app.add_subcommand(
+      "station", "Serve a live session to browsers: its view from the trainee's camera and from above, its tasks,\n"
+                 "events and score; the page holding the driver's token drives it with keys or a gamepad");
+  c.station_cmd->add_option("--session", c.station_job.session, "The live session (skidsim run --session NAME)")->required();
+  c.station_cmd->add_option("--exercise", c.station_job.exercise_path, "Its exercise file")->required();
+  c.station_cmd->add_option("--lcm", c.station_job.lcm_url, "The LCM provider URL (default: this host's multicast)");
+  c.station_cmd->add_option("--bind", c.station_job.bind, "The address to listen on (beyond this host: needs --token)")->capture_default_str();
+  c.station_cmd->add_option("--port", c.station_job.port, "The HTTP port (0: any free one, printed)")->capture_default_str();
+  c.station_cmd->add_option("--token", c.station_job.token, "A token every request must carry (?token=...)");
+  c.station_cmd->add_option("--driver-token", c.station_job.driver_token, "The driver's token (default: drawn at random, printed)");
+  c.station_cmd->add_option("--camera", c.station_job.camera, "The trainee's camera: cab, chase, aerial or fixed (default: the exercise's)");
+  c.station_cmd->add_option("--fps", c.station_job.fps, "Frames a second, at most 25")->capture_default_str()->check(number_in(0.1, skidsim::io::kMaxRecordFps));
+  c.station_cmd->add_option("--width", c.station_job.width, "Pixels")->capture_default_str()->check(number_in(16.0, 4096.0));
+  c.station_cmd->add_option("--height", c.station_job.height, "Pixels")->capture_default_str()->check(number_in(16.0, 4096.0));
+  c.station_cmd->add_option("--backend", c.station_job.backend, "auto, egl or osmesa")->capture_default_str();
+  c.station_cmd->add_option("--linger-s", c.station_job.linger_s, "Serving on after the session ends (s)")->capture_default_str()->check(number_in(0.0, 3600.0));
+
   c.view_cmd->add_flag("--every-frame", c.view_job.every_frame, "Live: draw every frame due even when behind (default: skip\n"
                                                                 "to the latest)");
 
@@ -438,6 +458,7 @@ int run_command(const Commands& c) {
   if (*c.render_cmd) return skidsim::apps::render_frame(c.render_job);
   if (*c.review_cmd) return skidsim::apps::review_session(c.review_job);
   if (*c.view_cmd) return skidsim::apps::run_view(c.view_job);
+  if (*c.station_cmd) return skidsim::station::run_station(c.station_job);
   if (*c.batch_cmd) return skidsim::apps::run_batch(c.batch_job);
   if (*c.report_cmd) return skidsim::report::write_perf_report(c.report_job);
   if (*c.bench_cmd) return run_bench(c.bench_json, c.bench_filter, c.bench_min_time, c.bench_out);

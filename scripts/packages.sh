@@ -17,7 +17,9 @@ SKIDSIM_PACKAGES=(
   libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev  # off-screen OpenGL: EGL, Mesa's drivers, GL headers
   libosmesa6-dev         # off-screen OpenGL: the OSMesa fallback
   ffmpeg                 # recorded frames -> session.mp4
-  chromium-headless-shell  # the review page's test (loads review.html, screenshots it)
+  libcpp-httplib-dev     # the live station's HTTP server
+  libturbojpeg0-dev      # the live station's JPEG frames
+  chromium-headless-shell  # the review page's and the station's tests (a real browser)
 )
 
 # install_packages WHO PACKAGE...: installs those not installed yet.

@@ -61,7 +61,9 @@ int SceneView::apply(const skidsim_lcm::scene_t& message) {
   while (reader_.frame().time_s >= static_cast<double>(frames_ + due) / fps_ - 1e-9) ++due;
   if (due == 0) return 0;
   update_scene(layout_, reader_.frame(), scene_, &history_);
-  frame_camera_ = exercise_camera(camera_, exercise_, reader_.frame().links.front());
+  frame_chassis_ = reader_.frame().links.front();
+  frame_time_s_ = reader_.frame().time_s;
+  frame_camera_ = exercise_camera(camera_, exercise_, frame_chassis_);
   frames_ += due;
   return due;
 }

@@ -34,6 +34,11 @@ class SceneView {
   // The last frame due, and the camera that draws it.
   const render::Scene& scene() const { return scene_; }
   const render::Camera& camera() const { return frame_camera_; }
+  // Another camera (cab, chase, aerial or fixed; std::invalid_argument
+  // otherwise) at the last frame due.
+  render::Camera camera(const std::string& name) const { return exercise_camera(name, exercise_, frame_chassis_); }
+  // The session's time at the last frame due.
+  double frame_time_s() const { return frame_time_s_; }
   // The frames due so far, counted from the stream's time 0 (the next
   // frame's number).
   int frames() const { return frames_; }
@@ -44,6 +49,8 @@ class SceneView {
   double fps_;
   render::Scene scene_;
   render::Camera frame_camera_;
+  Eigen::Isometry3d frame_chassis_ = Eigen::Isometry3d::Identity();
+  double frame_time_s_ = 0.0;
   SceneLayout layout_;
   SceneStreamReader reader_;
   SceneHistory history_;
