@@ -1,6 +1,8 @@
 #include "station/station.h"
 
+#include <arpa/inet.h>
 #include <lcm/lcm-cpp.hpp>
+#include <netinet/in.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -58,6 +60,11 @@ constexpr double kViewIdleS = 2.0;
 // A page's request for a frame newer than it has waits this long at most.
 constexpr auto kFrameWait = std::chrono::milliseconds(1000);
 constexpr const char* kViews[] = {"trainee", "aerial"};
+constexpr std::size_t kMaxEvents = 10000, kMaxEventText = 1000, kMaxScenes = 2000;
+// Connections: each holds one of the server's threads while it is open, so
+// idle ones are closed soon.
+constexpr int kServerThreads = 32;
+constexpr time_t kKeepAliveS = 1, kReadTimeoutS = 2;
 
 // Compares without stopping at the first difference (a token's check takes
 // no longer for a better guess).
@@ -77,8 +84,21 @@ std::string random_token() {
   return hex;
 }
 
+// An address of this host alone: 127.0.0.0/8, ::1 or "localhost" (an
+// address written out, not a name to look up).
 bool loopback(const std::string& address) {
-  return address == "localhost" || address == "::1" || address.rfind("127.", 0) == 0;
+  if (address == "localhost") return true;
+  in_addr v4{};
+  if (::inet_pton(AF_INET, address.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return ::inet_pton(AF_INET6, address.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
+}
+
+// The Host header a page on this host sends (a page elsewhere that renamed
+// itself to 127.0.0.1 through DNS sends its own name: refused).
+bool local_host_header(const std::string& host, int port) {
+  const std::string p = ":" + std::to_string(port);
+  return host == "127.0.0.1" + p || host == "localhost" + p || host == "[::1]" + p || host == "127.0.0.1" || host == "localhost";
 }
 
 json state_json(const skidsim_lcm::state_t& s) {
@@ -123,7 +143,7 @@ struct Shared {
   skidsim_lcm::control_t levers{};
   Clock::time_point driver_seen;
   bool driver_connected = false;
-  long controls_received = 0, controls_refused = 0;
+  long controls_received = 0, controls_refused = 0, releases = 0;
 
   // On LCM's thread, where nothing may escape.
   void on_message(const lcm::ReceiveBuffer* buffer, const std::string& channel) noexcept {
@@ -133,6 +153,9 @@ struct Shared {
       const std::string base = io::bare_channel(channel);
       std::lock_guard<std::mutex> lock(mutex);
       if (base == io::LcmChannels{}.scene) {
+        // Behind by more than kMaxScenes (the drawing stalled, or a flood):
+        // the oldest go; the stream's refresh mends what they changed.
+        if (scenes.size() >= kMaxScenes) scenes.pop_front();
         scenes.emplace_back(bytes, bytes + buffer->data_size);
         scene_arrived.notify_all();
       } else if (base == io::LcmChannels{}.state) {
@@ -140,11 +163,13 @@ struct Shared {
         if (size >= 0 && s.decode(buffer->data, 0, size) == size) state = state_json(s);
       } else if (base == io::LcmChannels{}.events) {
         skidsim_lcm::event_t e;
-        if (size < 0 || e.decode(buffer->data, 0, size) != size || events.size() >= 100000) return;
-        events.push_back({{"index", events.size()}, {"sim_time_s", e.sim_time_s}, {"kind", e.kind}, {"severity", e.severity},
-                          {"text", e.text}});
+        if (size < 0 || e.decode(buffer->data, 0, size) != size) return;
         if (e.kind == "end" && !ended) ended = true, ended_at = Clock::now();
         scene_arrived.notify_all();
+        // A page shows the first kMaxEvents, each cut to kMaxEventText.
+        if (events.size() >= kMaxEvents) return;
+        events.push_back({{"index", events.size()}, {"sim_time_s", e.sim_time_s}, {"kind", e.kind.substr(0, kMaxEventText)},
+                          {"severity", e.severity}, {"text", e.text.substr(0, kMaxEventText)}});
       }
     } catch (const std::exception&) {
     }
@@ -182,7 +207,7 @@ std::string read_page() {
 
 // The HTTP routes: the page, frames, the status, the levers.
 void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o, const std::string& page,
-                const std::string& trainee_camera) {
+                const std::string& trainee_camera, int port) {
   const auto may_watch = [&o](const httplib::Request& req) {
     return o.token.empty() || same_secret(req.get_param_value("token"), o.token) || same_secret(req.get_param_value("driver"), o.driver_token);
   };
@@ -191,6 +216,26 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
     res.status = status;
     res.set_content(why + "\n", "text/plain");
   };
+  // Before a request's body is read: its token, its Host (a page on this
+  // host, when there is no token), and a body of a stated length, within
+  // the limit (a chunked or compressed one could be any size).
+  server.set_pre_routing_handler([=](const httplib::Request& req, httplib::Response& res) {
+    using R = httplib::Server::HandlerResponse;
+    if (o.token.empty() && !local_host_header(req.get_header_value("Host"), port)) {
+      refuse(res, 403, "this station answers pages on this host (give it --token to be reached from elsewhere)");
+      return R::Handled;
+    }
+    if (!may_watch(req)) {
+      refuse(res, 403, "this station needs its token (?token=...)");
+      return R::Handled;
+    }
+    if (req.method == "POST" && (req.has_header("Transfer-Encoding") || req.has_header("Content-Encoding") ||
+                                 !req.has_header("Content-Length"))) {
+      refuse(res, 411, "a body of a stated length, neither chunked nor compressed");
+      return R::Handled;
+    }
+    return R::Unhandled;
+  });
   server.Get("/", [=](const httplib::Request& req, httplib::Response& res) {
     if (!may_watch(req)) return refuse(res, 403, "this station needs its token (?token=...)");
     res.set_header("Cache-Control", "no-store");
@@ -209,6 +254,8 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
     }
     std::unique_lock<std::mutex> lock(shared.mutex);
     shared.wanted[view] = Clock::now();
+    // A page's number beyond this station's (it ran before a restart): from the start.
+    if (after > shared.frames[view].seq) after = 0;
     const auto newer = [&] { return shared.frames[view].seq > after && !shared.frames[view].jpeg.empty(); };
     if (!shared.frame_ready.wait_for(lock, kFrameWait, newer)) {
       res.status = 204;  // nothing newer yet: ask again
@@ -239,10 +286,10 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
            {"you_drive", drives(req)},      {"driver_connected", shared.driver_connected},
            {"trainee_camera", trainee_camera}, {"state", shared.state},
            {"events", events},              {"controls_received", shared.controls_received},
-           {"controls_refused", shared.controls_refused}};
+           {"controls_refused", shared.controls_refused}, {"releases", shared.releases}};
     }
     res.set_header("Cache-Control", "no-store");
-    res.set_content(s.dump(), "application/json");
+    res.set_content(s.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
   });
   server.Post("/control", [=, &shared](const httplib::Request& req, httplib::Response& res) {
     if (!drives(req)) {
@@ -264,6 +311,7 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
     if (!drives(req)) return refuse(res, 403, "only the page holding the driver's token drives");
     std::lock_guard<std::mutex> lock(shared.mutex);
     shared.driver_seen = Clock::time_point{};  // gone: neutral at the next control tick
+    ++shared.releases;
     res.set_content("{}", "application/json");
   });
 }
@@ -278,6 +326,7 @@ void send_controls(lcm::LCM& lcm, const std::string& channel, Shared& shared, co
   auto next = Clock::now();
   while (!stop) {
     next += kControlPeriod;
+    if (next < Clock::now()) next = Clock::now();  // behind (a stall): on from now, no burst
     std::this_thread::sleep_until(next);
     skidsim_lcm::control_t c{};
     bool send = false;
@@ -321,8 +370,8 @@ int run_station(const StationOptions& o_in) {
   if (o.driver_token.empty()) o.driver_token = random_token();
   if (o.driver_token.size() < 8 || o.driver_token.find_first_not_of("0123456789abcdefABCDEF-_") != std::string::npos)
     throw io::InputError("--driver-token: expected 8 or more of 0-9 a-f A-F - _");
-  if (!o.token.empty() && o.token.find_first_not_of("0123456789abcdefABCDEF-_") != std::string::npos)
-    throw io::InputError("--token: expected 0-9 a-f A-F - _");
+  if (!o.token.empty() && (o.token.size() < 16 || o.token.find_first_not_of("0123456789abcdefABCDEF-_") != std::string::npos))
+    throw io::InputError("--token: expected 16 or more of 0-9 a-f A-F - _");
 
   const io::Exercise ex = io::load_exercise(o.exercise_path);
   const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
@@ -353,10 +402,12 @@ int run_station(const StationOptions& o_in) {
 
   httplib::Server server;
   server.set_payload_max_length(4096);
-  server.new_task_queue = [] { return new httplib::ThreadPool(16); };
-  add_routes(server, shared, o, page, camera);
+  server.set_keep_alive_timeout(kKeepAliveS);
+  server.set_read_timeout(kReadTimeoutS, 0);
+  server.new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
   const int port = o.port == 0 ? server.bind_to_any_port(o.bind) : (server.bind_to_port(o.bind, o.port) ? o.port : -1);
   if (port <= 0) throw io::InputError("--port " + std::to_string(o.port) + ": cannot listen on " + o.bind + " (in use?)");
+  add_routes(server, shared, o, page, camera, port);
 
   // LCM's, the server's and the controls' threads; stopped and joined
   // however this function leaves.
@@ -377,6 +428,8 @@ int run_station(const StationOptions& o_in) {
       if (lcm.handleTimeout(100) < 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   });
   threads.all.emplace_back([&] { server.listen_after_bind(); });
+  // stop() does nothing to a server not yet listening: wait until it is.
+  for (int k = 0; k < 500 && !server.is_running(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   threads.all.emplace_back([&] { send_controls(lcm, channels.control, shared, threads.stop); });
   const std::string host = o.bind.find(':') != std::string::npos ? "[" + o.bind + "]" : o.bind;
   const std::string base = "http://" + host + ":" + std::to_string(port) + "/";

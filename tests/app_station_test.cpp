@@ -5,7 +5,10 @@
 // pressed in the page drive the machine.
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
 #include <fcntl.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
@@ -54,6 +57,7 @@ std::string browser_path() {
 class Browser {
  public:
   Browser(const std::string& path, const fs::path& profile) {
+    ::signal(SIGPIPE, SIG_IGN);  // a browser that died: a failed write, not the end of the tests
     int in[2], out[2];  // in: we write, it reads on 3; out: it writes on 4, we read
     if (::pipe(in) != 0 || ::pipe(out) != 0) return;
     posix_spawn_file_actions_t actions;
@@ -137,6 +141,29 @@ class Browser {
   std::string buffer_;
 };
 
+// One raw HTTP request to 127.0.0.1:`port` (what a browser would not send);
+// the answer's status line and body.
+std::string raw_http(int port, const std::string& request) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  std::string answer;
+  if (fd >= 0 && ::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 &&
+      ::write(fd, request.data(), request.size()) == static_cast<ssize_t>(request.size())) {
+    char chunk[4096];
+    pollfd p{fd, POLLIN, 0};
+    while (::poll(&p, 1, 3000) > 0) {
+      const ssize_t n = ::read(fd, chunk, sizeof chunk);
+      if (n <= 0) break;
+      answer.append(chunk, static_cast<std::size_t>(n));
+    }
+  }
+  if (fd >= 0) ::close(fd);
+  return answer;
+}
+
 // The machine's state as a page sees it (null until one came).
 json state_of(Browser& b, const std::string& page) { return b.eval(page, "window.station.status && window.station.status.state"); }
 
@@ -168,11 +195,12 @@ TEST(SkidsimStation, APageDrivesALiveSessionAndAnotherWatchesIt) {
   const std::string browser_exe = browser_path();
   ASSERT_FALSE(browser_exe.empty()) << "headless Chromium is needed (scripts/setup.sh installs chromium-headless-shell)";
   const std::string url = "udpm://239.255.76.67:7701?ttl=0";
-  const fs::path work = fs::temp_directory_path() / "skidsim_station_test";
+  const fs::path work = fs::temp_directory_path() / ("skidsim_station_test_" + std::to_string(::getpid()));
   fs::remove_all(work);
   fs::create_directories(work);
   const std::string exercise = kSource + "/scenarios/pile_to_zone.xml";
-  const std::string station = std::string(SKIDSIM_BINARY) + " station --session st-1 --exercise " + exercise + " --lcm '" + url +
+  // Each process within a time limit, whatever the test does.
+  const std::string station = "timeout 180 " + std::string(SKIDSIM_BINARY) + " station --session st-1 --exercise " + exercise + " --lcm '" + url +
                               "' --port 0 --driver-token 0123456789abcdef --fps 5 --width 160 --height 90 --backend osmesa " +
                               "--linger-s 2 > " + (work / "station.out").string() + " 2>&1; echo $? > " + (work / "station.rc").string();
   ASSERT_EQ(std::system(("(" + station + ") &").c_str()), 0);
@@ -184,11 +212,6 @@ TEST(SkidsimStation, APageDrivesALiveSessionAndAnotherWatchesIt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_FALSE(port.empty()) << out;
   const std::string base = "http://127.0.0.1:" + std::string(port[1]) + "/";
-  const std::string run = std::string(SKIDSIM_BINARY) + " run " + exercise + " --mode realtime --session st-1 --lcm '" + url +
-                          "' --max-s 25 --out " + (work / "run").string() + " > " + (work / "run.out").string() + " 2>&1; echo $? > " +
-                          (work / "run.rc").string();
-  ASSERT_EQ(std::system(("(" + run + ") &").c_str()), 0);
-
   Browser b(browser_exe, work / "profile");
   ASSERT_TRUE(b.started());
   std::string driver_target;
@@ -196,6 +219,11 @@ TEST(SkidsimStation, APageDrivesALiveSessionAndAnotherWatchesIt) {
   const std::string watcher = b.open(base);
   ASSERT_FALSE(driver.empty());
   ASSERT_FALSE(watcher.empty());
+  // The session once both pages are open.
+  const std::string run = "timeout 120 " + std::string(SKIDSIM_BINARY) + " run " + exercise + " --mode realtime --session st-1 --lcm '" +
+                          url + "' --max-s 30 --out " + (work / "run").string() + " > " + (work / "run.out").string() +
+                          " 2>&1; echo $? > " + (work / "run.rc").string();
+  ASSERT_EQ(std::system(("(" + run + ") &").c_str()), 0);
 
   // Both pages get the session: its state, and frames from both cameras.
   const json at_rest = wait_for_state(b, driver, 30, [](const json& s) { return s["sim_time_s"].get<double>() > 2.0; });
@@ -248,7 +276,7 @@ TEST(SkidsimStation, APageDrivesALiveSessionAndAnotherWatchesIt) {
 
   // The instructor's page: its keys move nothing, and a control without
   // the token is refused.
-  const json still = state_of(b, watcher);
+  const json still = wait_for_state(b, watcher, 5, [](const json& s) { return s["speed_m_s"].get<double>() < 0.01; });
   b.key(watcher, "keyDown", "KeyW", "w", 87);
   const json refused = b.eval(watcher,
                               "fetch('/control', {method: 'POST', body: JSON.stringify({drive_left: 1, drive_right: 1, lift: 0, "
@@ -274,6 +302,15 @@ TEST(SkidsimStation, APageDrivesALiveSessionAndAnotherWatchesIt) {
     EXPECT_EQ(bad[k][0], want[k]) << k << ": " << bad[k];
     EXPECT_NE(bad[k][1].get<std::string>().find(says[k]), std::string::npos) << k << ": " << bad[k];
   }
+  // What no page here sends: a request for another host (a page elsewhere
+  // renamed to this one), a chunked body of any length.
+  const int port_number = std::stoi(std::string(port[1]));
+  const std::string other_host = raw_http(port_number, "GET /status HTTP/1.1\r\nHost: elsewhere.example\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(other_host.rfind("HTTP/1.1 403", 0), 0u) << other_host;
+  const std::string chunked = raw_http(port_number,
+                                       "POST /control?driver=0123456789abcdef HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: chunked\r\n"
+                                       "Connection: close\r\n\r\n5\r\nhello\r\n0\r\n\r\n");
+  EXPECT_EQ(chunked.rfind("HTTP/1.1 411", 0), 0u) << chunked;
   EXPECT_LT(std::abs(forward_m(still, still_after)), 0.05) << "the instructor's keys moved the machine";
 
   // S held in the driver's page (back, away from the pile), then the page
@@ -285,15 +322,20 @@ TEST(SkidsimStation, APageDrivesALiveSessionAndAnotherWatchesIt) {
   const auto closed = Clock::now();
   const json stopped = wait_for_state(b, watcher, 5, [](const json& s) { return s["speed_m_s"].get<double>() < 0.05; });
   const double took = std::chrono::duration<double>(Clock::now() - closed).count();
-  std::printf("[ measured ] driver's page closed moving at %.2f m/s: stopped (%.3f m/s) %.1f s later\n",
-              moving["speed_m_s"].get<double>(), stopped["speed_m_s"].get<double>(), took);
+  std::printf("[ measured ] driver's page closed moving at %.2f m/s: stopped (%.3f m/s) %.1f s later (%d release beacons)\n",
+              moving["speed_m_s"].get<double>(), stopped["speed_m_s"].get<double>(), took,
+              b.eval(watcher, "window.station.status.releases").get<int>());
   EXPECT_LT(stopped["speed_m_s"].get<double>(), 0.05);
+  EXPECT_GE(b.eval(watcher, "window.station.status.releases").get<int>(), 1) << "the closing page's beacon";
+  const auto until_gone = Clock::now() + std::chrono::seconds(3);  // the page's status comes every 250 ms
+  while (b.eval(watcher, "window.station.status.driver_connected") != false && Clock::now() < until_gone)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
   EXPECT_EQ(b.eval(watcher, "window.station.status.driver_connected"), false);
-  const json later = state_of(b, watcher);
+  const json later = wait_for_state(b, watcher, 5, [](const json& s) { return s["speed_m_s"].get<double>() < 0.01; });
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));
   EXPECT_LT(std::abs(forward_m(later, state_of(b, watcher))), 0.05) << "it stays where it stopped";
 
-  // The session ends at its 25 s; the station then (after 2 s) too.
+  // The session ends at its 30 s; the station then (after 2 s) too.
   const auto until_end = Clock::now() + std::chrono::seconds(60);
   while ((!fs::exists(work / "run.rc") || !fs::exists(work / "station.rc")) && Clock::now() < until_end)
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -313,6 +355,11 @@ TEST(SkidsimStation, RefusesToListenBeyondThisHostWithoutAToken) {
   EXPECT_EQ(bad_token.exit_code, 2) << bad_token.output;
   const auto bad_name = run_skidsim("station --session 'st.2' --exercise " + exercise + " --port 0");
   EXPECT_EQ(bad_name.exit_code, 2) << bad_name.output;
+  const auto short_token = run_skidsim("station --session st-2 --exercise " + exercise + " --bind 0.0.0.0 --port 0 --token abc");
+  EXPECT_EQ(short_token.exit_code, 2) << short_token.output;
+  EXPECT_NE(short_token.output.find("16 or more"), std::string::npos) << short_token.output;
+  const auto a_name = run_skidsim("station --session st-2 --exercise " + exercise + " --bind 127.example.org --port 0");
+  EXPECT_EQ(a_name.exit_code, 2) << a_name.output << ": a name that looks like this host's address is not it";
 }
 
 }  // namespace
