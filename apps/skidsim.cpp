@@ -357,7 +357,8 @@ void add_session_tools(CLI::App& app, Commands& c) {
               "rate, from a run directory's session.lcmlog, the pixels `run --record` draws (view_<camera>_<fps>fps),\n"
               "or live from a running session (--session NAME --exercise FILE)");
   c.view_cmd->add_option("source", c.view_job.source, "Run directory (of skidsim run), or a session.lcmlog with --exercise");
-  c.view_cmd->add_option("--camera", c.view_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
+  c.view_cmd->add_option("--camera", c.view_job.camera, "cab, chase, aerial or fixed, or several separated by commas\n"
+                                                        "(default: the exercise's)");
   c.view_cmd->add_option("--fps", c.view_job.fps, "Frames a second, at most 25 (default: the exercise's)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
   c.view_cmd->add_option("--width", c.view_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
   c.view_cmd->add_option("--height", c.view_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));

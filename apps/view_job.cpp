@@ -2,6 +2,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -12,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 
 #include "io/atomic_file.h"
@@ -54,25 +56,45 @@ std::string fps_text(double fps) {
 }
 
 // What a view draws with: the exercise's world, the view over the stream,
-// the recorder into a staged folder.
+// and per camera a recorder into a staged folder.
 struct Drawing {
   io::Exercise exercise;
   std::unique_ptr<engine::World> world;
-  std::string camera;
   double fps = 0.0;
   int width = 0, height = 0;
-  std::unique_ptr<visual::SceneView> view;
-  std::string out;
-  std::unique_ptr<io::StagedRunDirectory> out_dir;
-  std::unique_ptr<visual::FrameRecorder> recorder;
+  std::unique_ptr<visual::SceneView> view;  // drawing from the first camera
+  struct Output {
+    std::string camera, out;
+    std::unique_ptr<io::StagedRunDirectory> out_dir;
+    std::unique_ptr<visual::FrameRecorder> recorder;
+  };
+  std::vector<Output> outputs;
+  // The frame due, from every camera (`number`: as FrameRecorder::submit).
+  void submit(int number = -1) {
+    for (std::size_t k = 0; k < outputs.size(); ++k)
+      outputs[k].recorder->submit(view->scene(), k == 0 ? view->camera() : view->camera(outputs[k].camera), number);
+  }
 };
+
+// --camera: one name, or several separated by commas.
+std::vector<std::string> camera_names(const std::string& text, const std::string& exercise_camera) {
+  std::vector<std::string> names;
+  std::stringstream in(text.empty() ? exercise_camera : text);
+  for (std::string name; std::getline(in, name, ',');) {
+    if (name.empty() || std::find(names.begin(), names.end(), name) != names.end())
+      throw io::InputError("--camera '" + text + "': expected distinct names separated by commas (cab, chase, aerial, fixed)");
+    names.push_back(name);
+  }
+  if (names.empty()) throw io::InputError("--camera: expected a camera");
+  return names;
+}
 
 void open_drawing(const ViewJob& job, const std::string& exercise_path, const std::string& default_out,
                   visual::SceneStreamReader::Start start, Drawing& d) {
   d.exercise = io::load_exercise(exercise_path);
   const vehicle::LoaderDescription loader = io::load_loader(d.exercise.machine.loader);
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
-  d.camera = job.camera.empty() ? d.exercise.recording.camera : job.camera;
+  const std::vector<std::string> cameras = camera_names(job.camera, d.exercise.recording.camera);
   d.fps = job.fps > 0.0 ? job.fps : d.exercise.recording.fps;
   d.width = job.width > 0 ? job.width : d.exercise.recording.width;
   d.height = job.height > 0 ? job.height : d.exercise.recording.height;
@@ -83,32 +105,49 @@ void open_drawing(const ViewJob& job, const std::string& exercise_path, const st
   // The world as the exercise builds it: its meshes and sizes (it never steps).
   d.world = session::build_session_world(d.exercise, loader, soils);
   try {
-    d.view = std::make_unique<visual::SceneView>(d.exercise, *d.world, d.camera, d.fps, start);
+    d.view = std::make_unique<visual::SceneView>(d.exercise, *d.world, cameras.front(), d.fps, start);
+    for (const std::string& name : cameras) (void)d.view->camera(name);  // throws for an unknown camera
   } catch (const std::invalid_argument& e) {
     throw io::InputError(std::string("--camera: ") + e.what());
   }
-  d.out = !job.out_dir.empty() ? job.out_dir : default_out + "_" + d.camera + "_" + fps_text(d.fps) + "fps";
-  d.out_dir = std::make_unique<io::StagedRunDirectory>(d.out, "view");
-  fs::create_directories(d.out_dir->staging() / "frames");
-  try {
-    d.recorder = std::make_unique<visual::FrameRecorder>((d.out_dir->staging() / "frames").string(), d.width, d.height, job.backend);
-  } catch (const std::runtime_error& e) {
-    throw io::InputError(std::string("view: ") + e.what());
+  for (const std::string& camera : cameras) {
+    Drawing::Output o;
+    o.camera = camera;
+    // --out names the folder, or with several cameras the folders' stem.
+    o.out = job.out_dir.empty()     ? default_out + "_" + camera + "_" + fps_text(d.fps) + "fps"
+            : cameras.size() == 1 ? job.out_dir
+                                  : job.out_dir + "_" + camera;
+    o.out_dir = std::make_unique<io::StagedRunDirectory>(o.out, "view");
+    fs::create_directories(o.out_dir->staging() / "frames");
+    try {
+      o.recorder = std::make_unique<visual::FrameRecorder>((o.out_dir->staging() / "frames").string(), d.width, d.height, job.backend);
+    } catch (const std::runtime_error& e) {
+      throw io::InputError(std::string("view: ") + e.what());
+    }
+    d.outputs.push_back(std::move(o));
   }
 }
 
-// Waits for the frames, writes frames.json (`meta` and what every view
-// says) and a video (`video`: the frames have no gaps), and puts the folder
-// in place. Returns the video's name or "".
-std::string close_drawing(Drawing& d, json meta, bool video) {
-  const std::string error = d.recorder->finish();
-  if (!error.empty()) throw io::InputError("view: drawing stopped: " + error);
-  meta.update({{"frames", d.recorder->frames_written()}, {"fps", d.fps}, {"camera", d.camera}, {"width", d.width},
-               {"height", d.height}, {"renderer", d.recorder->renderer()}});
-  io::write_text_atomically((d.out_dir->staging() / "frames" / "frames.json").string(), meta.dump(2) + "\n");
-  const std::string name = video ? visual::encode_video(d.out_dir->staging().string(), d.fps) : "";
-  d.out_dir->commit();
-  return name;
+// Waits for the frames, writes each camera's frames.json (`meta` and what
+// every view says) and a video (`video`: the frames have no gaps), and puts
+// the folders in place. Returns where they went, for the summary line.
+std::string close_drawing(Drawing& d, const json& meta, bool video) {
+  for (Drawing::Output& o : d.outputs) {
+    const std::string error = o.recorder->finish();
+    if (!error.empty()) throw io::InputError("view: drawing from " + o.camera + " stopped: " + error);
+  }
+  std::string where;
+  for (Drawing::Output& o : d.outputs) {
+    json m = meta;
+    m.update({{"frames", o.recorder->frames_written()}, {"fps", d.fps}, {"camera", o.camera}, {"width", d.width},
+              {"height", d.height}, {"renderer", o.recorder->renderer()}});
+    io::write_text_atomically((o.out_dir->staging() / "frames" / "frames.json").string(), m.dump(2) + "\n");
+    const std::string name = video ? visual::encode_video(o.out_dir->staging().string(), d.fps) : "";
+    o.out_dir->commit();
+    where += (where.empty() ? "" : "; ") + std::to_string(o.recorder->frames_written()) + " from " + o.camera + " into " + o.out +
+             "/frames" + (name.empty() ? "" : " (and " + name + ")");
+  }
+  return where;
 }
 
 int view_log(const ViewJob& job) {
@@ -129,16 +168,14 @@ int view_log(const ViewJob& job) {
     try {
       skidsim_lcm::scene_t m;
       visual::decode_scene(e.data.data(), e.data.size(), m);
-      for (int k = d.view->apply(m); k > 0; --k) d.recorder->submit(d.view->scene(), d.view->camera());
+      for (int k = d.view->apply(m); k > 0; --k) d.submit();
     } catch (const visual::SceneStreamError& error) {
       throw io::InputError(where + error.what());
     }
   }
-  const std::string video =
-      close_drawing(d, {{"log", log_path.string()}, {"scene_messages", events.size()}}, true);
-  std::cout << "view: " << d.recorder->frames_written() << " frames from " << d.camera << " at " << fps_text(d.fps)
-            << " fps, drawn from " << events.size() << " scene messages of " << log_path.string() << " into " << d.out
-            << "/frames" << (video.empty() ? "" : " (and " + video + ")") << "\n";
+  const std::string where = close_drawing(d, {{"log", log_path.string()}, {"scene_messages", events.size()}}, true);
+  std::cout << "view: frames at " << fps_text(d.fps) << " fps drawn from " << events.size() << " scene messages of "
+            << log_path.string() << ": " << where << "\n";
   return 0;
 }
 
@@ -253,7 +290,7 @@ int view_live(const ViewJob& job) {
         if (due == 0) continue;
         if (first_frame < 0) first_frame = d.view->frames() - due;
         if (job.every_frame) {
-          for (int k = due; k > 0; --k) d.recorder->submit(d.view->scene(), d.view->camera(), d.view->frames() - k);
+          for (int k = due; k > 0; --k) d.submit(d.view->frames() - k);
           last_drawn = d.view->frames() - 1;
         } else {
           skipped += (due_frame >= 0 ? 1 : 0) + (due - 1);  // due, and not to be drawn
@@ -273,7 +310,7 @@ int view_live(const ViewJob& job) {
     // Behind: only the latest frame due is drawn (the view's state has
     // moved through every one, so the next frames are those a log draws).
     if (due_frame >= 0) {
-      d.recorder->submit(d.view->scene(), d.view->camera(), due_frame);
+      d.submit(due_frame);
       last_drawn = due_frame;
     }
     if (end == "silent" && std::chrono::steady_clock::now() - last_taken > std::chrono::duration<double>(job.idle_s)) break;
@@ -285,12 +322,11 @@ int view_live(const ViewJob& job) {
                      {"first_refusal", first_refusal},
                      {"first_step", first_step}, {"last_step", last_step}, {"first_frame", first_frame},
                      {"last_frame", last_drawn}, {"frames_skipped", skipped}};
-  const std::string video = close_drawing(d, meta, first_frame == 0 && skipped == 0);
-  std::cout << "view: " << d.recorder->frames_written() << " frames of session " << job.session << " from " << d.camera
-            << " at " << fps_text(d.fps) << " fps (" << skipped << " skipped behind, " << lost << " messages lost, " << refused
-            << " refused) into " << d.out << "/frames" << (video.empty() ? "" : " (and " + video + ")") << "\n";
+  const std::string where = close_drawing(d, meta, first_frame == 0 && skipped == 0);
+  std::cout << "view: frames of session " << job.session << " at " << fps_text(d.fps) << " fps (" << skipped << " skipped behind, "
+            << lost << " messages lost, " << refused << " refused): " << where << "\n";
   if (!first_refusal.empty()) std::cerr << "skidsim view: first refused: " << first_refusal << "\n";
-  if (end == "interrupted") throw jobs::Interrupted("view interrupted; the frames drawn are kept in " + d.out, jobs::interrupting_signal());
+  if (end == "interrupted") throw jobs::Interrupted("view interrupted; the frames drawn are kept", jobs::interrupting_signal());
   if (end == "silent") {
     std::cerr << "skidsim view: no scene from session " << job.session << " for " << job.idle_s << " s; stopping\n";
     return 1;

@@ -280,6 +280,33 @@ TEST(SkidsimView, DrawsARunsLogAsTheRunsRecordingDidPixelForPixel) {
   EXPECT_TRUE(fs::exists(aerial / "frames" / "frame_000023.png"));  // 0 to 11.5 s at 2 fps
   EXPECT_FALSE(fs::exists(aerial / "frames" / "frame_000024.png"));
 
+  // Two cameras at once: each the frames a view from that camera alone draws.
+  const fs::path both = fs::temp_directory_path() / "skidsim_view_both", aerial_alone = fs::temp_directory_path() / "skidsim_view_aerial5";
+  fs::remove_all(both.string() + "_chase"), fs::remove_all(both.string() + "_aerial"), fs::remove_all(aerial_alone);
+  const auto two = run_skidsim("view " + run.string() + " --camera chase,aerial --fps 5 --width 96 --height 54 --backend osmesa --out " +
+                               both.string());
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  ASSERT_EQ(run_skidsim("view " + run.string() + " --camera aerial --fps 5 --width 96 --height 54 --backend osmesa --out " +
+                        aerial_alone.string())
+                .exit_code,
+            0);
+  int two_frames = 0, two_differ = 0;
+  for (int k = 0; k < frames; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    two_frames += fs::exists(fs::path(both.string() + "_chase") / "frames" / name) &&
+                  fs::exists(fs::path(both.string() + "_aerial") / "frames" / name);
+    two_differ += bytes_of(fs::path(both.string() + "_chase") / "frames" / name) != bytes_of(out / "frames" / name);
+    two_differ += bytes_of(fs::path(both.string() + "_aerial") / "frames" / name) != bytes_of(aerial_alone / "frames" / name);
+  }
+  EXPECT_EQ(two_frames, frames);
+  EXPECT_EQ(two_differ, 0);
+  EXPECT_NE(bytes_of(fs::path(both.string() + "_chase") / "frames" / "frame_000030.png"),
+            bytes_of(fs::path(both.string() + "_aerial") / "frames" / "frame_000030.png"));
+  const auto twice = run_skidsim("view " + run.string() + " --camera chase,chase --out " + (both.string() + "_twice"));
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  for (const fs::path& p : {fs::path(both.string() + "_chase"), fs::path(both.string() + "_aerial"), aerial_alone}) fs::remove_all(p);
+
   const auto other = run_skidsim("view " + run.string() + " --exercise " + std::string(SKIDSIM_SOURCE_DIR) +
                                  "/scenarios/driving_course.xml --out " + (aerial.string() + "_other"));
   EXPECT_EQ(other.exit_code, 2) << other.output;
