@@ -370,6 +370,9 @@ void add_session_tools(CLI::App& app, Commands& c) {
                                                           "joining at any time, until it ends (needs --exercise)");
   c.view_cmd->add_option("--lcm", c.view_job.lcm_url, "Live: the LCM provider URL (default: this host's multicast)");
   c.view_cmd->add_option("--idle-s", c.view_job.idle_s, "Live: stop when no scene message came for this long (s)")->capture_default_str();
+  c.view_cmd->add_flag("--every-frame", c.view_job.every_frame, "Live: draw every frame due even when behind (default: skip\n"
+                                                                "to the latest)");
+
   c.station_cmd = app.add_subcommand(
       "station", "Serve a live session to browsers: its view from the trainee's camera and from above, its tasks,\n"
                  "events and score; the page holding the driver's token drives it with keys or a gamepad");
@@ -386,9 +389,6 @@ void add_session_tools(CLI::App& app, Commands& c) {
   c.station_cmd->add_option("--height", c.station_job.height, "Pixels")->capture_default_str()->check(number_in(16.0, 4096.0));
   c.station_cmd->add_option("--backend", c.station_job.backend, "auto, egl or osmesa")->capture_default_str();
   c.station_cmd->add_option("--linger-s", c.station_job.linger_s, "Serving on after the session ends (s)")->capture_default_str()->check(number_in(0.0, 3600.0));
-
-  c.view_cmd->add_flag("--every-frame", c.view_job.every_frame, "Live: draw every frame due even when behind (default: skip\n"
-                                                                "to the latest)");
 
   c.batch_cmd = app.add_subcommand(
       "batch", "Run many sessions at once, each `skidsim run` of a line of LIST (its arguments; each needs\n"

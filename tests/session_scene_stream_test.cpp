@@ -151,15 +151,24 @@ TEST(SceneStream, ASessionsFramesArriveExactlyThroughTheStream) {
 }
 
 // Messages that do not fit are refused naming what, and the frame stays.
-TEST(SceneStream, AMessageThatDoesNotFitIsRefusedAndChangesNothing) {
-  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
-  const io::Exercise ex = io::load_exercise(kSource + "/scenarios/pile_to_zone.xml");
-  SessionOptions options;
-  options.scene_stream = true;
-  Session session(ex, io::load_loader(ex.machine.loader), soils, options);
+// An exercise's world at its start, as a frame, and a writer for it.
+struct StillSite {
+  explicit StillSite(const std::string& exercise) {
+    const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
+    const io::Exercise ex = io::load_exercise(kSource + "/scenarios/" + exercise);
+    SessionOptions options;
+    options.scene_stream = true;
+    Session session(ex, io::load_loader(ex.machine.loader), soils, options);
+    visual::capture_frame(session.world(), frame);
+  }
   visual::SceneFrame frame;
-  visual::capture_frame(session.world(), frame);
   visual::SceneStreamWriter writer;
+};
+
+TEST(SceneStream, AMessageThatDoesNotFitIsRefusedAndChangesNothing) {
+  StillSite site("pile_to_zone.xml");
+  visual::SceneFrame& frame = site.frame;
+  visual::SceneStreamWriter& writer = site.writer;
   const skidsim_lcm::scene_t first = writer.encode(frame);
   visual::SceneStreamReader reader;
   // A change before any whole frame: the ground must come whole first.
@@ -220,14 +229,9 @@ TEST(SceneStream, AMessageThatDoesNotFitIsRefusedAndChangesNothing) {
 // ready once every cell of the ground and the loads has come: within one
 // refresh of the stream, the squares of a still world going again in turn.
 TEST(SceneStream, AJoiningReaderIsReadyOnceEveryCellHasCome) {
-  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
-  const io::Exercise ex = io::load_exercise(kSource + "/scenarios/truck_loading.xml");
-  SessionOptions options;
-  options.scene_stream = true;
-  Session session(ex, io::load_loader(ex.machine.loader), soils, options);
-  visual::SceneFrame frame;
-  visual::capture_frame(session.world(), frame);
-  visual::SceneStreamWriter writer;
+  StillSite site("truck_loading.xml");
+  const visual::SceneFrame& frame = site.frame;
+  visual::SceneStreamWriter& writer = site.writer;
   (void)writer.encode(frame);  // the first, whole: missed
   visual::SceneStreamReader joiner(visual::SceneStreamReader::Start::kJoining);
   // A message with none of the ground's squares leaves it waiting.
