@@ -204,7 +204,8 @@ int review_session(const ReviewJob& job) {
   if (!fs::is_directory(run)) throw io::InputError(job.run_dir + ": no such run directory");
   const json report = read_json(run / "report.json");
   if (!report.is_object()) throw io::InputError((run / "report.json").string() + ": not a report (expected a JSON object)");
-  if (job.fps != 0.0 && !(job.fps >= 0.1 && job.fps <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
+  if (job.fps != 0.0) io::check_frame_rate(job.fps);
+  if (job.camera.find(',') != std::string::npos) throw io::InputError("--camera '" + job.camera + "': review re-renders from one camera");
   if (job.width < 0 || job.height < 0) throw io::InputError("--width / --height: expected 16 to 8192 pixels");
   std::string rendered;  // the frames just re-rendered, if any
   if (!job.camera.empty() || job.fps > 0.0 || job.width > 0 || job.height > 0) {

@@ -119,7 +119,7 @@ class SessionRecording {
         fps_(job.frame_fps > 0.0 ? job.frame_fps : ex.recording.fps),
         width_(job.frame_width > 0 ? job.frame_width : ex.recording.width),
         height_(job.frame_height > 0 ? job.frame_height : ex.recording.height) {
-    if (!(fps_ >= 0.1 && fps_ <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
+    io::check_frame_rate(fps_);
     if (width_ < 16 || height_ < 16 || width_ > 8192 || height_ > 8192)
       throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
     if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")

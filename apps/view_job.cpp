@@ -98,7 +98,7 @@ void open_drawing(const ViewJob& job, const std::string& exercise_path, const st
   d.fps = job.fps > 0.0 ? job.fps : d.exercise.recording.fps;
   d.width = job.width > 0 ? job.width : d.exercise.recording.width;
   d.height = job.height > 0 ? job.height : d.exercise.recording.height;
-  if (!(d.fps >= 0.1 && d.fps <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
+  io::check_frame_rate(d.fps);
   if (d.width < 16 || d.height < 16 || d.width > 8192 || d.height > 8192) throw io::InputError("--width / --height: expected 16 to 8192");
   if (job.backend != "auto" && job.backend != "egl" && job.backend != "osmesa")
     throw io::InputError("--backend '" + job.backend + "': expected auto, egl or osmesa");
@@ -214,7 +214,7 @@ struct Inbox {
 };
 
 // A second of the stream refused in a row ends a live view.
-constexpr int kRefusedInARow = 25;
+constexpr int kRefusedInARow = static_cast<int>(io::kMaxRecordFps);
 
 int view_live(const ViewJob& job) {
   const jobs::InterruptScope interrupt_scope;
@@ -251,7 +251,8 @@ int view_live(const ViewJob& job) {
   // in the session's steps: where), frames drawn and skipped.
   long messages = 0, refused = 0, refused_in_a_row = 0, lost = 0, skipped = 0;
   std::int64_t first_step = -1, last_step = -1;
-  std::vector<std::int64_t> lost_after_steps;  // the first 1000 gaps
+  std::vector<double> lost_after_s;  // the session's time before each of the first 1000 gaps
+  double first_time_s = -1.0, last_time_s = 0.0;
   int first_frame = -1, last_drawn = -1;
   std::string first_refusal, end = "silent";
   // Idle counts from the last message taken (a view may start up to
@@ -282,10 +283,10 @@ int view_live(const ViewJob& job) {
         last_taken = std::chrono::steady_clock::now();
         if (last_step >= 0 && m.step > last_step + session::kStepsPerScene) {
           lost += (m.step - last_step) / session::kStepsPerScene - 1;
-          if (lost_after_steps.size() < 1000) lost_after_steps.push_back(last_step);
+          if (lost_after_s.size() < 1000) lost_after_s.push_back(last_time_s);
         }
-        if (first_step < 0) first_step = m.step;
-        last_step = m.step;
+        if (first_step < 0) first_step = m.step, first_time_s = m.sim_time_s;
+        last_step = m.step, last_time_s = m.sim_time_s;
         ++messages;
         if (due == 0) continue;
         if (first_frame < 0) first_frame = d.view->frames() - due;
@@ -318,9 +319,9 @@ int view_live(const ViewJob& job) {
   receiver.stop = true;
   receiver.thread.join();
   const json meta = {{"session", job.session}, {"lcm_url", url}, {"end", end}, {"scene_messages", messages},
-                     {"messages_lost", lost}, {"lost_after_steps", lost_after_steps}, {"messages_refused", refused},
+                     {"messages_lost", lost}, {"lost_after_s", lost_after_s}, {"messages_refused", refused},
                      {"first_refusal", first_refusal},
-                     {"first_step", first_step}, {"last_step", last_step}, {"first_frame", first_frame},
+                     {"first_step", first_step}, {"first_time_s", first_time_s}, {"last_step", last_step}, {"first_frame", first_frame},
                      {"last_frame", last_drawn}, {"frames_skipped", skipped}};
   const std::string where = close_drawing(d, meta, first_frame == 0 && skipped == 0);
   std::cout << "view: frames of session " << job.session << " at " << fps_text(d.fps) << " fps (" << skipped << " skipped behind, "

@@ -537,4 +537,8 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
   return r.ex;
 }
 
+void check_frame_rate(double fps) {
+  if (!(fps >= 0.1 && fps <= kMaxRecordFps)) throw InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
+}
+
 }  // namespace skidsim::io

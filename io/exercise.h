@@ -139,6 +139,8 @@ inline bool channel_name_text(const std::string& s) { return s.find_first_not_of
 // Frames a second a recording or a view draws at most: the scene stream's
 // rate (session::kStepsPerScene, 25 a second).
 inline constexpr double kMaxRecordFps = 25.0;
+// io::InputError unless 0.1 <= fps <= kMaxRecordFps, naming --fps.
+void check_frame_rate(double fps);
 struct Recording {
   double fps = 10.0;
   std::string camera = "chase";  // cab, chase, aerial, fixed

@@ -301,7 +301,7 @@ void update_field(const GlApi& gl, const HeightField& f, FieldCache& c, std::vec
 
 // Moves each layer's displacement on by velocity x time, and puts a layer
 // back where its weight passes zero (t = t0 + k tau), moved on since then.
-constexpr double kFlowPhaseS = 0.3, kFlowPeriodS = 0.9;  // sigma and tau of 8.2.3
+constexpr double kFlowPhaseS = 0.3;  // sigma of 8.2.3 (tau: kFlowPeriodS)
 
 void advance_flow(const GlApi& gl, const HeightField& f, FieldCache& c, double t_s) {
   const std::size_t n = c.mesh.positions_m.size(), cells = static_cast<std::size_t>(f.nx) * f.ny;

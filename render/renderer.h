@@ -13,6 +13,11 @@
 
 namespace skidsim::render {
 
+// The sand's moving texture (8.2.3): each of its layers is moved on from
+// frame to frame drawn and put back every tau, so a frame depends on the
+// frames drawn in the tau before it.
+inline constexpr double kFlowPeriodS = 0.9;
+
 class Renderer {
  public:
   explicit Renderer(OffscreenContext& context, int shadow_map_size = 1024);

@@ -1,10 +1,9 @@
 #include "station/station.h"
 
-#include <arpa/inet.h>
 #include <lcm/lcm-cpp.hpp>
-#include <netinet/in.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -49,9 +48,9 @@ using Clock = std::chrono::steady_clock;
 // The driver's page sends its levers every 50 ms; after this long without
 // them (a closed tab, a lost network) the levers go to neutral.
 constexpr double kDriverGoneS = 0.5;
-// Controls go out 50 a second, well within the session's watchdog (the
-// exercise's, 0.2 s by default).
-constexpr auto kControlPeriod = std::chrono::milliseconds(20);
+// Controls go out 50 a second, or twice in the session's watchdog time
+// when that is shorter (the exercise's <operator watchdog_ms>).
+constexpr double kControlPeriodS = 0.02;
 // Neutral goes out this many times when the driver goes (then the
 // session's watchdog holds it).
 constexpr int kNeutralMessages = 10;
@@ -59,7 +58,12 @@ constexpr int kNeutralMessages = 10;
 constexpr double kViewIdleS = 2.0;
 // A page's request for a frame newer than it has waits this long at most.
 constexpr auto kFrameWait = std::chrono::milliseconds(1000);
-constexpr const char* kViews[] = {"trainee", "aerial"};
+constexpr const char* kTraineeView = "trainee";
+constexpr const char* kAerialView = "aerial";
+constexpr const char* kViews[] = {kTraineeView, kAerialView};
+// A second of the stream that does not fit (the session started again
+// under its name): the station joins it afresh.
+constexpr int kRefusedInARow = static_cast<int>(io::kMaxRecordFps);
 constexpr std::size_t kMaxEvents = 10000, kMaxEventText = 1000, kMaxScenes = 2000;
 // Connections: each holds one of the server's threads while it is open, so
 // idle ones are closed soon.
@@ -84,15 +88,10 @@ std::string random_token() {
   return hex;
 }
 
-// An address of this host alone: 127.0.0.0/8, ::1 or "localhost" (an
-// address written out, not a name to look up).
-bool loopback(const std::string& address) {
-  if (address == "localhost") return true;
-  in_addr v4{};
-  if (::inet_pton(AF_INET, address.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
-  in6_addr v6{};
-  return ::inet_pton(AF_INET6, address.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
-}
+// The addresses a station listens on without a token: this host's own
+// (written out, not a name to look up), which pages on this host address
+// it by.
+bool loopback(const std::string& address) { return address == "127.0.0.1" || address == "::1" || address == "localhost"; }
 
 // The Host header a page on this host sends (a page elsewhere that renamed
 // itself to 127.0.0.1 through DNS sends its own name: refused).
@@ -244,7 +243,7 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
   server.Get("/frame.jpg", [=, &shared](const httplib::Request& req, httplib::Response& res) {
     if (!may_watch(req)) return refuse(res, 403, "this station needs its token (?token=...)");
     const std::string view = req.get_param_value("camera");
-    if (view != "trainee" && view != "aerial") return refuse(res, 400, "camera: expected trainee or aerial");
+    if (view != kTraineeView && view != kAerialView) return refuse(res, 400, "camera: expected trainee or aerial");
     long long after = 0;
     const std::string after_text = req.get_param_value("after");
     if (!after_text.empty()) {
@@ -318,14 +317,15 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
 
 // The controls' thread: the driver's levers 50 a second while they keep
 // coming, then neutral.
-void send_controls(lcm::LCM& lcm, const std::string& channel, Shared& shared, const std::atomic<bool>& stop) {
+void send_controls(lcm::LCM& lcm, const std::string& channel, double watchdog_s, Shared& shared, const std::atomic<bool>& stop) {
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(std::min(kControlPeriodS, watchdog_s / 2)));
   const std::int64_t sender =
       static_cast<std::int64_t>(Clock::now().time_since_epoch().count() ^ (static_cast<std::int64_t>(::getpid()) << 32));
   std::int64_t seq = 0;
   int neutral_left = 0;
   auto next = Clock::now();
   while (!stop) {
-    next += kControlPeriod;
+    next += period;
     if (next < Clock::now()) next = Clock::now();  // behind (a stall): on from now, no burst
     std::this_thread::sleep_until(next);
     skidsim_lcm::control_t c{};
@@ -364,12 +364,12 @@ int run_station(const StationOptions& o_in) {
   if (!loopback(o.bind) && o.token.empty())
     throw io::InputError("--bind " + o.bind + ": a station listening beyond this host needs --token");
   if (o.port < 0 || o.port > 65535) throw io::InputError("--port: expected 0 to 65535");
-  if (!(o.fps >= 0.1 && o.fps <= io::kMaxRecordFps)) throw io::InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
+  io::check_frame_rate(o.fps);
   if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096) throw io::InputError("--width / --height: expected 16 to 4096");
   if (!(o.linger_s >= 0.0)) throw io::InputError("--linger-s: expected >= 0");
   if (o.driver_token.empty()) o.driver_token = random_token();
-  if (o.driver_token.size() < 8 || o.driver_token.find_first_not_of("0123456789abcdefABCDEF-_") != std::string::npos)
-    throw io::InputError("--driver-token: expected 8 or more of 0-9 a-f A-F - _");
+  if (o.driver_token.size() < 16 || o.driver_token.find_first_not_of("0123456789abcdefABCDEF-_") != std::string::npos)
+    throw io::InputError("--driver-token: expected 16 or more of 0-9 a-f A-F - _");
   if (!o.token.empty() && (o.token.size() < 16 || o.token.find_first_not_of("0123456789abcdefABCDEF-_") != std::string::npos))
     throw io::InputError("--token: expected 16 or more of 0-9 a-f A-F - _");
 
@@ -430,7 +430,7 @@ int run_station(const StationOptions& o_in) {
   threads.all.emplace_back([&] { server.listen_after_bind(); });
   // stop() does nothing to a server not yet listening: wait until it is.
   for (int k = 0; k < 500 && !server.is_running(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  threads.all.emplace_back([&] { send_controls(lcm, channels.control, shared, threads.stop); });
+  threads.all.emplace_back([&] { send_controls(lcm, channels.control, ex.operator_source.watchdog_s, shared, threads.stop); });
   const std::string host = o.bind.find(':') != std::string::npos ? "[" + o.bind + "]" : o.bind;
   const std::string base = "http://" + host + ":" + std::to_string(port) + "/";
   const std::string watch = o.token.empty() ? base : base + "?token=" + o.token;
@@ -439,7 +439,7 @@ int run_station(const StationOptions& o_in) {
 
   // The drawing: every message into the view; at each frame due, each view
   // a page asked for lately, drawn and kept as JPEG.
-  long refused = 0;
+  long refused = 0, refused_in_a_row = 0;
   std::int64_t seq = 0;
   for (;;) {
     std::deque<std::vector<std::uint8_t>> batch;
@@ -459,8 +459,14 @@ int run_station(const StationOptions& o_in) {
         skidsim_lcm::scene_t m;
         visual::decode_scene(bytes.data(), bytes.size(), m);
         due = view->apply(m) > 0 || due;
+        refused_in_a_row = 0;
       } catch (const visual::SceneStreamError& e) {
         if (refused++ == 0) std::cerr << "skidsim station: refused a scene message: " << e.what() << "\n";
+        if (++refused_in_a_row >= kRefusedInARow) {
+          std::cerr << "skidsim station: the stream no longer fits (" << e.what() << "); joining it afresh\n";
+          view = std::make_unique<visual::SceneView>(ex, *world, camera, o.fps, visual::SceneStreamReader::Start::kJoining);
+          refused_in_a_row = 0;
+        }
       }
     }
     if (!due) continue;
@@ -474,8 +480,8 @@ int run_station(const StationOptions& o_in) {
       io::RgbImage image;
       image.width = o.width, image.height = o.height;
       image.rgb = render::render_rgb(*context, renderer, view->scene(),
-                                     std::string(name) == "trainee" ? view->camera() : view->camera("aerial"));
-      std::string jpeg = io::encode_jpeg(image, 80);
+                                     std::string(name) == kTraineeView ? view->camera() : view->camera("aerial"));
+      std::string jpeg = io::encode_jpeg(image);
       std::lock_guard<std::mutex> lock(shared.mutex);
       shared.frames[name] = {seq, view->frame_time_s(), std::move(jpeg)};
       shared.frame_ready.notify_all();

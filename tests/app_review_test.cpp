@@ -17,8 +17,12 @@
 #include <set>
 #include <sstream>
 
+#include "io/exercise.h"
 #include "io/png_image.h"
+#include "render/renderer.h"
 #include "tests/app_support.h"
+#include "visual/scene_dust.h"
+#include "visual/scene_stream.h"
 
 namespace {
 
@@ -145,6 +149,11 @@ TEST(SkidsimReview, PageWorksInABrowserAndReRendersFromAnotherCamera) {
       << "another camera, another picture";
   EXPECT_NE(slurp(html).find("frames_aerial_5fps"), std::string::npos);
   EXPECT_FALSE(fs::exists(run / ".review_view"));
+  // A review re-renders from one camera (skidsim view draws several).
+  const auto two = run_skidsim("review " + run.string() + " --camera chase,aerial --fps 5");
+  EXPECT_EQ(two.exit_code, 2) << two.output;
+  EXPECT_NE(two.output.find("one camera"), std::string::npos) << two.output;
+  EXPECT_FALSE(fs::exists(run / ".review_view_chase"));
 
   // A damaged log: refused, nothing kept.
   fs::resize_file(run / "session.lcmlog", fs::file_size(run / "session.lcmlog") - 7);
@@ -322,11 +331,11 @@ TEST(SkidsimView, DrawsARunsLogAsTheRunsRecordingDidPixelForPixel) {
 // draws frame k from the session's state at k / fps, as a view of the
 // session's log does. The view that draws every frame draws the log's
 // pixels once the dust raised before its picture was whole has faded (a
-// puff lives at most 3.5 s; every frame when it heard the first message).
+// puff lives at most 3.5 s, skidsim::visual::kMaxPuffLifeS; every frame when it heard the first message).
 // The one that skips drawing when behind (the session runs in lockstep
 // faster than real time) differs only where the sand's moving texture,
 // which the renderer moves on from frame to frame it draws, went without a
-// frame in the 0.9 s its layers last (render/renderer.cpp, 8.2.3).
+// frame in the 0.9 s its layers last (render::kFlowPeriodS, 8.2.3).
 TEST(SkidsimView, DrawsALiveSessionAsItsLogDrawsIt) {
   const std::string url = "udpm://239.255.76.67:7697?ttl=0";
   const fs::path tmp = fs::temp_directory_path(), run = tmp / "skidsim_view_live_run", logged = tmp / "skidsim_view_live_log";
@@ -365,17 +374,19 @@ TEST(SkidsimView, DrawsALiveSessionAsItsLogDrawsIt) {
     const nlohmann::json meta = nlohmann::json::parse(std::ifstream(live / "frames" / "frames.json"));
     EXPECT_EQ(meta["end"], "session_ended");
     const int first = meta["first_frame"], last = meta["last_frame"];
-    const int settled = meta["first_step"] == 0 ? 0 : first + static_cast<int>(std::ceil(3.5 * 5));
+    const double fps = 5.0, refresh_s = skidsim::visual::kSceneRefreshMessages / skidsim::io::kMaxRecordFps;
+    const double joined_s = meta["first_time_s"];
+    const int settled = meta["first_step"] == 0 ? 0 : first + static_cast<int>(std::ceil(skidsim::visual::kMaxPuffLifeS * fps));
     // A message lost to the network (rare past the first): its squares come
     // again within the refresh, and the dust they raise fades 3.5 s later.
     const auto after_a_loss = [&](int frame) {
-      for (const auto& step : meta["lost_after_steps"]) {
-        const double t = step.get<double>() * 0.002;
-        if (frame / 5.0 > t && frame / 5.0 <= t + 5.0 + 3.5) return true;
+      for (const auto& lost : meta["lost_after_s"]) {
+        const double t = lost.get<double>();
+        if (frame / fps > t && frame / fps <= t + refresh_s + skidsim::visual::kMaxPuffLifeS) return true;
       }
       return false;
     };
-    const int texture_frames = static_cast<int>(std::ceil(0.9 * 5));
+    const int texture_frames = static_cast<int>(std::ceil(skidsim::render::kFlowPeriodS * fps));
     int drawn = 0, compared = 0, differ = 0, unexplained = 0;
     std::vector<bool> was_drawn(static_cast<std::size_t>(last + 1), false);
     for (int f = first; f <= last; ++f) {
@@ -400,7 +411,8 @@ TEST(SkidsimView, DrawsALiveSessionAsItsLogDrawsIt) {
                 meta["frames_skipped"].get<int>(), meta["messages_lost"].get<int>(), differ, compared, unexplained);
     EXPECT_EQ(meta["frames"], drawn);
     EXPECT_EQ(meta["messages_refused"], 0);
-    EXPECT_LE(first, 5 * 11) << "the picture whole within the stream's 5 s refresh of joining";
+    // Whole within the refresh of joining (and the frame due after it).
+    EXPECT_LE(first / fps - joined_s, refresh_s + 1.0 / fps + 1.0 / skidsim::io::kMaxRecordFps) << "joined at " << joined_s << " s";
     EXPECT_EQ(last, 99) << "the last frame due (19.8 s of 20) drawn";
     EXPECT_GE(compared, 10);
     if (k == 0) {

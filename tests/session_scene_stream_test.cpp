@@ -224,7 +224,6 @@ TEST(SceneStream, AMessageThatDoesNotFitIsRefusedAndChangesNothing) {
   }
 }
 
-}  // namespace
 // Joining (a live view started late): squares kept as they come, the frame
 // ready once every cell of the ground and the loads has come: within one
 // refresh of the stream, the squares of a still world going again in turn.
@@ -260,5 +259,7 @@ TEST(SceneStream, AJoiningReaderIsReadyOnceEveryCellHasCome) {
   ASSERT_EQ(joiner.frame().loads.size(), frame.loads.size());
   for (std::size_t k = 0; k < frame.loads.size(); ++k) EXPECT_EQ(joiner.frame().loads[k].shows, frame.loads[k].shows);
 }
+
+}  // namespace
 
 }  // namespace skidsim::session

@@ -42,7 +42,7 @@ void DustSystem::spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& velocit
   p.velocity_m_s = velocity;
   p.radius_m = radius_m;
   p.opacity = opacity;
-  p.life_s = 1.8 + 1.7 * uniform();
+  p.life_s = 1.8 + (kMaxPuffLifeS - 1.8) * uniform();
   p.shape = static_cast<float>(uniform());
   puffs_.push_back(p);
 }

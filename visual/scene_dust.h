@@ -20,6 +20,10 @@
 
 namespace skidsim::visual {
 
+// The longest a puff lives (s): a view that joined late draws the dust a
+// view of the whole session draws this long after its picture is whole.
+inline constexpr double kMaxPuffLifeS = 3.5;
+
 class DustSystem {
  public:
   explicit DustSystem(std::uint64_t seed = 8, std::size_t capacity = 3000);
