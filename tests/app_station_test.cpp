@@ -229,9 +229,9 @@ TEST(SkidsimStation, APageDrivesALiveSessionAndAnotherWatchesIt) {
   const json at_rest = wait_for_state(b, driver, 30, [](const json& s) { return s["sim_time_s"].get<double>() > 2.0; });
   ASSERT_TRUE(at_rest.is_object()) << slurp(work / "station.out");
   const auto frames = [&](const std::string& page) { return b.eval(page, "window.station.frames"); };
-  const auto until_frames = Clock::now() + std::chrono::seconds(20);
+  const auto until_frames = Clock::now() + std::chrono::seconds(30);
   json f0 = frames(driver), w0 = frames(watcher);
-  while ((f0["trainee"].get<int>() < 2 || w0["aerial"].get<int>() < 2) && Clock::now() < until_frames) {
+  while ((f0["trainee"].get<int>() < 2 || f0["aerial"].get<int>() < 2 || w0["aerial"].get<int>() < 2) && Clock::now() < until_frames) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     f0 = frames(driver), w0 = frames(watcher);
   }
