@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "io/atomic_file.h"
 #include "io/json_file.h"
@@ -89,10 +90,11 @@ std::vector<std::string> camera_names(const std::string& text, const std::string
   return names;
 }
 
-void open_drawing(const ViewJob& job, const std::string& exercise_path, const std::string& default_out,
-                  visual::SceneStreamReader::Start start, Drawing& d) {
-  d.exercise = io::load_exercise(exercise_path);
-  const vehicle::LoaderDescription loader = io::load_loader(d.exercise.machine.loader);
+// `exercise` and `loader` as loaded (moved into the drawing, which the view
+// refers to).
+void open_drawing(const ViewJob& job, io::Exercise exercise, const vehicle::LoaderDescription& loader,
+                  const std::string& default_out, visual::SceneStreamReader::Start start, Drawing& d) {
+  d.exercise = std::move(exercise);
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
   const std::vector<std::string> cameras = camera_names(job.camera, d.exercise.recording.camera);
   d.fps = job.fps > 0.0 ? job.fps : d.exercise.recording.fps;
@@ -157,12 +159,12 @@ int view_log(const ViewJob& job) {
   const fs::path run = run_dir ? source : source.parent_path();
   const std::string exercise_path = !job.exercise_path.empty() ? job.exercise_path : exercise_of_run(run);
   // The log is checked whole, against the exercise, before a folder is made.
-  const io::Exercise ex = io::load_exercise(exercise_path);
-  const session::SessionIdentity identity =
-      session::session_identity(ex, io::load_loader(ex.machine.loader), io::default_soil_table_path());
+  io::Exercise ex = io::load_exercise(exercise_path);
+  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
+  const session::SessionIdentity identity = session::session_identity(ex, loader, io::default_soil_table_path());
   const std::vector<io::LcmLogEvent> events = session::load_scene_events(log_path.string(), identity);
   Drawing d;
-  open_drawing(job, exercise_path, (run / "view").string(), visual::SceneStreamReader::Start::kFirstMessage, d);
+  open_drawing(job, std::move(ex), loader, (run / "view").string(), visual::SceneStreamReader::Start::kFirstMessage, d);
   for (const io::LcmLogEvent& e : events) {
     const std::string where = io::lcm_log_where(log_path.string(), e.data_offset_bytes, e.index);
     try {
@@ -223,7 +225,9 @@ int view_live(const ViewJob& job) {
   if (!(job.idle_s > 0.0)) throw io::InputError("--idle-s: expected > 0");
   const std::string url = job.lcm_url.empty() ? std::string(io::kDefaultLcmUrl) : job.lcm_url;
   Drawing d;
-  open_drawing(job, job.exercise_path, "view_" + job.session, visual::SceneStreamReader::Start::kJoining, d);
+  io::Exercise ex = io::load_exercise(job.exercise_path);
+  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
+  open_drawing(job, std::move(ex), loader, "view_" + job.session, visual::SceneStreamReader::Start::kJoining, d);
   lcm::LCM lcm(url);
   if (!lcm.good()) throw io::InputError("LCM provider '" + url + "' could not be opened");
   const io::LcmChannels channels = io::session_channels(job.session);
@@ -241,10 +245,7 @@ int view_live(const ViewJob& job) {
       if (thread.joinable()) thread.join();
     }
   } receiver;
-  receiver.thread = std::thread([&] {
-    while (!receiver.stop)
-      if (lcm.handleTimeout(100) < 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  });
+  receiver.thread = std::thread([&] { io::handle_until(lcm, receiver.stop); });
   std::cout << "view: listening to session " << job.session << " on " << url << std::endl;
 
   // What the view saw: messages taken, refused (first reason), lost (a gap

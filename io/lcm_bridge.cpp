@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <chrono>
+#include <thread>
+
 #include <stdexcept>
 
 #include "io/atomic_file.h"
@@ -75,6 +78,11 @@ int LcmBridge::poll(double sim_time_s) {
   int handled = 0;
   while (handled < kMaxPerPoll && lcm_->handleTimeout(0) > 0) ++handled;
   return handled;
+}
+
+void handle_until(lcm::LCM& lcm, const std::atomic<bool>& stop) {
+  while (!stop)
+    if (lcm.handleTimeout(100) < 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
 }
 
 bool LcmBridge::wait(int timeout_ms, double sim_time_s) {

@@ -8,6 +8,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <atomic>
+
 #include <memory>
 #include <string>
 
@@ -45,6 +47,11 @@ void check_session_name(const std::string& name, const std::string& option);
 // The name a live session takes unless it is given one, unique on this
 // host: its exercise's name (other characters as '-') and this process's id.
 std::string default_session_name(const std::string& exercise_name);
+
+// A listener's receiving thread (a view, the station): handles `lcm`'s
+// messages as they come until `stop`, waking every 100 ms to look; a
+// provider that fails is tried again 100 ms later rather than spun on.
+void handle_until(lcm::LCM& lcm, const std::atomic<bool>& stop);
 
 class LcmBridge {
  public:

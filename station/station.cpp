@@ -235,13 +235,12 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
     }
     return R::Unhandled;
   });
-  server.Get("/", [=](const httplib::Request& req, httplib::Response& res) {
-    if (!may_watch(req)) return refuse(res, 403, "this station needs its token (?token=...)");
+  // The routes below run only for requests the check above let through.
+  server.Get("/", [=](const httplib::Request&, httplib::Response& res) {
     res.set_header("Cache-Control", "no-store");
     res.set_content(page, "text/html; charset=utf-8");
   });
   server.Get("/frame.jpg", [=, &shared](const httplib::Request& req, httplib::Response& res) {
-    if (!may_watch(req)) return refuse(res, 403, "this station needs its token (?token=...)");
     const std::string view = req.get_param_value("camera");
     if (view != kTraineeView && view != kAerialView) return refuse(res, 400, "camera: expected trainee or aerial");
     long long after = 0;
@@ -267,7 +266,6 @@ void add_routes(httplib::Server& server, Shared& shared, const StationOptions& o
     res.set_content(f.jpeg, "image/jpeg");
   });
   server.Get("/status", [=, &shared](const httplib::Request& req, httplib::Response& res) {
-    if (!may_watch(req)) return refuse(res, 403, "this station needs its token (?token=...)");
     std::size_t after = 0;
     const std::string after_text = req.get_param_value("events_after");
     if (!after_text.empty()) {
@@ -423,10 +421,7 @@ int run_station(const StationOptions& o_in) {
     }
   } threads;
   threads.server = &server;
-  threads.all.emplace_back([&] {
-    while (!threads.stop)
-      if (lcm.handleTimeout(100) < 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  });
+  threads.all.emplace_back([&] { io::handle_until(lcm, threads.stop); });
   threads.all.emplace_back([&] { server.listen_after_bind(); });
   // stop() does nothing to a server not yet listening: wait until it is.
   for (int k = 0; k < 500 && !server.is_running(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
