@@ -59,6 +59,10 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   if (!(params.grain_diameter_m >= 0.0 && params.grain_diameter_m <= 10.0))
     throw std::invalid_argument("momentum flow: grain_diameter_m must be in [0, 10]");
   const double grain_m = params.grain_diameter_m > 0.0 ? params.grain_diameter_m : soil.grain_diameter_m;
+  // h_stop, the thinnest layer that flows, is a grain-scale length like the
+  // thin-layer law's: grains scaled with the other lengths (a dimensionless
+  // comparison) scale it with them.
+  min_layer_m_ = soil.min_flow_layer_m * (soil.grain_diameter_m > 0.0 && grain_m > 0.0 ? grain_m / soil.grain_diameter_m : 1.0);
   if (grain_m > 0.0 && soil.thin_layer_decay_grains > 0.0) {
     thin_excess_ = std::max(0.0, tan_deg(soil.thin_layer_friction_angle_deg) - mu_);
     inv_decay_m_ = 1.0 / (soil.thin_layer_decay_grains * grain_m);
@@ -112,7 +116,6 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_.assign(n, 0);
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
-  min_layer_m_ = soil.min_flow_layer_m;
 }
 
 std::array<int, 4> MomentumFlow::faces_of(int cell) const {
@@ -304,8 +307,11 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose
   // angle: the infinite-slope limit of soil at rest, docs/terrain_model.md),
-  // or the bed friction up to a cell where a layer moves (erosion of the
-  // metastable bed, Daerr and Douady 1999); everything above it fails at
+  // or the thick layer's flowing friction (theta_1) up to a cell where a
+  // layer moves (erosion of the metastable bed, Daerr and Douady 1999: the
+  // bed under the layer is deep, so it is stable only to the angle at which
+  // a thick layer stops, whatever the thin layer's own friction on it; the
+  // DEM's deposits lie at about theta_1); everything above it fails at
   // once and joins the flowing layer, the core stays. A column so keeps its
   // top while a < tan(repose) (Lajeunesse et al. 2004 and Lube et al. 2004
   // measured 0.7-0.74) and a peak fails
@@ -319,7 +325,7 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     core_[c] = grid.surface_at(c);
-    rise_[n] = d_ * (erosion_ && flowing_[c] > 0 ? std::min(mu_start_, bed_friction_tan(flowing_[c] * kHeightQuantumM)) : mu_start_);
+    rise_[n] = d_ * (erosion_ && flowing_[c] > 0 ? std::min(mu_start_, mu_) : mu_start_);
   }
   // The neighbours before a cell in raster order as (di, dj); those after it are their opposites.
   constexpr int kBefore[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};

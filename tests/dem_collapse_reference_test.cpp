@@ -11,16 +11,17 @@
 // depends on its thickness in grains (Pouliquen 1999), as the chute measured.
 //
 // The bounds hold what is reached (docs/terrain_model.md, "Fast flows with
-// momentum"): the tubes' deposits round and their edges within 12 %, their
-// r99 run-outs 6-32 % short (the DEM's fringe of single grains), their
-// heights within 30 % (the columns that lose their top stand 19-27 % tall),
-// the slot within 20 % and 10 %, the front's arrival within 20 % where the
-// column falls. The
-// issue's aim of 15 % is reached on the edges and the slot, not on r99 or
-// the heights at a = 1 and 2. A change that loses ground fails; tighten them
-// as the model improves.
+// momentum"): the tubes' deposits round and their edges within 12 % (or the
+// one cell the edge is measured to), their r99 run-outs 16-33 % short (the
+// DEM's fringe of single grains), their heights within 10 % at a = 0.5, 2
+// and 4 and 25 % at a = 1 (its centre stands 13-22 % tall), the slot within
+// 15 % and 10 %, the front's arrival within 20 % where the column falls.
+// The issue's aim of 15 % is reached on the edges, the slot and the heights
+// but a = 1's, not on r99. A change that loses ground fails; tighten them as
+// the model improves.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -64,22 +65,26 @@ TEST(DemCollapse, RunOutHeightAndFrontAgainstTheDemAtTwoCellSizes) {
                   name.c_str(), run.runout_over_r0, d.runout, 100.0 * runout, run.final_height_over_r0, d.height,
                   100.0 * height, run.edge_runout_over_r0, d.edge_runout, t90, t90_dem);
       if (d.slot) {
-        EXPECT_LT(std::abs(runout), 0.20) << name << ": run-out " << run.runout_over_r0 << " against " << d.runout;
+        EXPECT_LT(std::abs(runout), 0.15) << name << ": run-out " << run.runout_over_r0 << " against " << d.runout;
         EXPECT_LT(std::abs(height), 0.10) << name << ": height " << run.final_height_over_r0 << " against " << d.height;
       } else {
-        // The edge (a quarter grain thick) within 12 %; r99 also counts the
-        // DEM's sparse fringe of single grains one to four grains beyond it,
-        // which the grid's thin layers, stopping, do not hold.
-        const double edge = run.edge_runout_over_r0 / d.edge_runout - 1.0;
+        // The edge (a quarter grain thick) within 12 %, or within the cell
+        // it is measured to where that is coarser (a = 0.5's 0.4 r0 at 5 cm);
+        // r99 also counts the DEM's sparse fringe of single grains one to
+        // four grains beyond it, which the grid's thin layers, stopping, do
+        // not hold.
+        const double edge_error = std::abs(run.edge_runout_over_r0 - d.edge_runout);
         // Round, as the DEM's: the edge along the grid's diagonals as far as
         // along its axes within a cell and a tenth.
         const double axes = run.final_state.edge_along_axes_m, diagonals = run.final_state.edge_along_diagonals_m;
         std::printf("[ measured ] %s: edge along the axes %.2f r0, along the diagonals %.2f r0\n", name.c_str(),
                     axes / run.c.r0_m, diagonals / run.c.r0_m);
         EXPECT_NEAR(diagonals, axes, 0.1 * axes + cell) << name;
-        EXPECT_LT(std::abs(edge), 0.12) << name << ": edge " << run.edge_runout_over_r0 << " against " << d.edge_runout;
+        EXPECT_LE(edge_error, std::max(0.12 * d.edge_runout, cell / run.c.r0_m) + 1e-9)
+            << name << ": edge " << run.edge_runout_over_r0 << " against " << d.edge_runout;
         EXPECT_LT(std::abs(runout), 0.35) << name << ": run-out " << run.runout_over_r0 << " against " << d.runout;
-        EXPECT_LT(std::abs(height), 0.30) << name << ": height " << run.final_height_over_r0 << " against " << d.height;
+        EXPECT_LT(std::abs(height), d.aspect == 1.0 ? 0.25 : 0.10)
+            << name << ": height " << run.final_height_over_r0 << " against " << d.height;
       }
       // The front's arrival at 90 % of its advance, within 20 % where the
       // column falls (a >= 1); the low column's edge wedge slides out
@@ -87,6 +92,37 @@ TEST(DemCollapse, RunOutHeightAndFrontAgainstTheDemAtTwoCellSizes) {
       if (d.aspect >= 1.0) {
         EXPECT_NEAR(t90 / t90_dem, 1.0, 0.2) << name << ": t90 " << t90 << " against " << t90_dem;
       }
+    }
+  }
+}
+
+// The same material with its grains at their own size (8 mm at r0 = 1 m:
+// 125 grains per radius, as in the laboratory columns, so the thin-layer law
+// acts only in layers a few centimetres thick) and one friction on floor and
+// bed, against the published laws for axisymmetric collapses, measured on
+// sands, rice, sugar and glass beads alike: (r - r0) / r0 = 1.24 a below
+// a = 1.7 and 1.6 a^0.5 above (Lube, Huppert, Sparks and Hallworth 2004,
+// "Axisymmetric collapses of granular columns", J. Fluid Mech. 508;
+// Lajeunesse, Mangeney-Castelnau and Vilotte 2004 found the same forms).
+// Within 10 % at a = 1, 2 and 4; a = 0.5, whose run-out is the edge wedge's
+// slide, within 25 %.
+double published_runout_over_r0(double a) { return a < 1.7 ? 1.24 * a : 1.6 * std::sqrt(a); }
+
+TEST(DemCollapse, AtTheLaboratorysGrainSizeTheRunOutFollowsThePublishedLaws) {
+  const Reference& s = reference();
+  for (double cell : {0.1, 0.05}) {
+    for (const DemColumn& d : s.dem) {
+      if (d.slot || d.drop_over_r0 > 0.0) continue;
+      terrain::CollapseCase c = dem_column_case(d, cell, true, true);
+      c.momentum_params.grain_diameter_m = 0.0;    // the soil's own grains
+      c.momentum_params.floor_friction_deg = 0.0;  // the bed's friction on the floor too
+      const terrain::CollapseRun run = terrain::run_column_collapse(c, s.sand.flow);
+      const double law = published_runout_over_r0(d.aspect), error = run.runout_over_r0 / law - 1.0;
+      std::printf("[ measured ] a = %g at %g m, 125 grains per radius: run-out %.2f r0 (published law %.2f, %+.1f %%), "
+                  "height %.2f r0\n",
+                  d.aspect, cell, run.runout_over_r0, law, 100.0 * error, run.final_height_over_r0);
+      EXPECT_TRUE(run.books_exact);
+      EXPECT_LT(std::abs(error), d.aspect < 1.0 ? 0.25 : 0.10) << "a = " << d.aspect << ", " << cell << " m";
     }
   }
 }
@@ -143,7 +179,7 @@ TEST(DemCollapse, TheFastFlowIsCloserThanTheAutomatonOnEveryColumn) {
 // from 2 m): the DEM's grains splash out to a flat deposit, edge 1.68 r0 out
 // and 0.41 r0 high. Landing with its momentum and flowing, the grid's heap
 // spreads farther and lower than the automaton makes it, but stays short
-// (23-35 %) and tall (+73-98 %): the impact's lateral splash is not
+// (35 %) and tall (+68-80 %): the impact's lateral splash is not
 // modelled (the rain and parcels lose their vertical momentum at the
 // impact), docs/terrain_model.md.
 TEST(DemCollapse, ADroppedColumnSpreadsFartherWithMomentumThanAsARestingHeap) {
