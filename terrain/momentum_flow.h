@@ -24,10 +24,10 @@
 // under the terrain whose slope nowhere exceeds the repose angle; all
 // material above it fails at once. A column keeps its top while a <
 // tan(repose) (0.69 for 34.6 deg; Lajeunesse et al. 2004 measured 0.74).
-// Erosion: under a moving layer the core's slope is held to the bed
-// friction instead: soil at rest between the stop and start angles is
-// metastable, and an avalanche passing over it carries it away down to the
-// stop angle (Daerr and Douady 1999, "Two types of avalanche behaviour in
+// Erosion: under a moving layer the core's slope is held to the thick
+// layer's flowing friction instead: soil at rest between the stop and start
+// angles is metastable, and an avalanche passing over it carries it away
+// down to the angle at which a layer as deep as the bed stops (Daerr and Douady 1999, "Two types of avalanche behaviour in
 // granular media", Nature 399). This is the fast limit of BCRE's exchange
 // between rolling and static grains (Bouchaud et al. 1994), whose rate, the
 // flow's speed over a grain, is 10^2-10^4 per second: fast beside a
@@ -66,7 +66,8 @@ struct MomentumFlowParameters {
   double bed_friction_deg = 0.0;
   // The grain diameter of the soil's thin-layer friction (m; 0: the
   // soil's, SoilFlowParameters). A dimensionless comparison scales it with
-  // the other lengths (experiments/column_collapse.h).
+  // the other lengths (experiments/column_collapse.h); the soil's h_stop
+  // (min_flow_layer_m), a grain-scale length too, scales with it.
   double grain_diameter_m = 0.0;
   // Coulomb friction of a layer flowing on the bare hard base, with no
   // static soil under it (deg); 0: the bed friction. A laboratory floor
