@@ -31,6 +31,19 @@ void steer(vehicle::LoaderControls& c, double speed, double heading_error) {
   c.drive_right = std::clamp(speed + turn, -1.0, 1.0);
 }
 
+// A load in the bucket (kg) and the time over which an operator moves a
+// drive lever its whole travel with one: thrown at once, the hydrostatic
+// drive gives the machine about 3 m/s^2, which tips the heap's apparent
+// gravity 17 deg (docs/material.md, "The load's apparent gravity").
+constexpr double kLoadedKg = 1.0;
+constexpr double kLoadedLeverRiseS = 4.0;
+
+// The most a closed loop moves a drive lever `in_phase_s` into a phase:
+// `lever`, eased in with a load.
+double eased_in(double lever, double in_phase_s, double payload_kg) {
+  return payload_kg > kLoadedKg ? std::min(lever, in_phase_s / kLoadedLeverRiseS) : lever;
+}
+
 }  // namespace
 
 OperatorPlayer::OperatorPlayer(io::OperatorScript script) : script_(std::move(script)) {}
@@ -146,7 +159,9 @@ vehicle::LoaderControls OperatorPlayer::step(const skidsim_lcm::state_t& s) {
       break;
     }
     case io::ScriptPhase::Kind::kReverse:
-      steer(c, -p.speed, 0.0);
+      // With a load the levers go back gently: the machine pulled back at
+      // once throws the heap forward over the lip.
+      steer(c, -eased_in(p.speed, in_phase, s.bucket_payload_kg), 0.0);
       c.lift = lift_to(s, s.lift_angle_rad);
       c.tilt = tilt_to(s, 0.3);
       goal = (xy - start_xy_).norm() >= p.distance_m;

@@ -73,30 +73,32 @@ TEST(SkidsimRun, ScriptedPileToZoneIsDoneScoredAndLogged) {
 // Replaying a session's log (the controls it applied, tick by tick)
 // reproduces its final state. (This found that lcm-gen's decoding needs
 // -fno-strict-aliasing: the replay had read zeros.)
-// The same exercise with fast flows on its site (<soil fast_flow="on">,
+// The shipped exercise has fast flows on its site (<soil fast_flow="on">,
 // terrain/momentum_flow.h): the dumped loads land and run out with their
-// momentum; the task is still done and passed, and the session differs from
-// the one without (its final state).
+// momentum, the load feels the machine's acceleration; the task is done and
+// passed, and the session differs from the same exercise with them off (its
+// final state), which passes too.
 TEST(SkidsimRun, PileToZoneWithFastFlowsIsDoneAndDiffers) {
   const fs::path dir = fs::temp_directory_path() / "skidsim_run_fast_flow";
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ifstream in(kScenario);
   std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string soil = "type=\"dry_sand\">";
+  const std::string soil = "type=\"dry_sand\" fast_flow=\"on\">";
   ASSERT_NE(xml.find(soil), std::string::npos);
-  xml.replace(xml.find(soil), soil.size(), "type=\"dry_sand\" fast_flow=\"on\">");
-  const fs::path scenario = dir / "pile_to_zone_fast.xml";
+  xml.replace(xml.find(soil), soil.size(), "type=\"dry_sand\" fast_flow=\"off\">");
+  const fs::path scenario = dir / "pile_to_zone_plain.xml";
   std::ofstream(scenario) << xml;
-  const auto fast = run_skidsim("run " + scenario.string() + " --script " + kScript + " --out " + (dir / "fast").string());
+  const auto fast = run_skidsim("run " + kScenario + " --script " + kScript + " --out " + (dir / "fast").string());
   ASSERT_EQ(fast.exit_code, 0) << fast.output;
-  const auto plain = run_skidsim("run " + kScenario + " --script " + kScript + " --out " + (dir / "plain").string());
+  const auto plain = run_skidsim("run " + scenario.string() + " --script " + kScript + " --out " + (dir / "plain").string());
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   const nlohmann::json a = nlohmann::json::parse(std::ifstream(dir / "fast" / "report.json"));
   const nlohmann::json b = nlohmann::json::parse(std::ifstream(dir / "plain" / "report.json"));
   EXPECT_TRUE(a["result"]["passed"].get<bool>()) << a["result"].dump();
   EXPECT_GE(a["metrics"]["material_moved_kg"].get<double>(), 800.0);
   EXPECT_TRUE(a["machine_finite"].get<bool>());
+  EXPECT_TRUE(b["result"]["passed"].get<bool>()) << b["result"].dump();
   EXPECT_NE(a["final_state_hash"], b["final_state_hash"]);
   fs::remove_all(dir);
 }
@@ -175,14 +177,18 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
   EXPECT_NE(html.find("PASSED"), std::string::npos);
   EXPECT_NE(html.find("<polyline"), std::string::npos);
   // The measured handling metrics: the engine worked; where material was
-  // carried, each pass was counted with its fill and little of it was spilt.
+  // carried, each pass was counted with its fill and most of it arrived. The
+  // sand sites have fast flows on, so their loads feel the machine's
+  // acceleration: the scripts throw the arm's and the drive's levers as an
+  // operator in a hurry would, and spill a quarter to a third of what they
+  // move (26-32 %; 1 % with fast flows off, docs/material.md).
   const auto& m = report["metrics"];
   EXPECT_GT(m["engine_energy_MJ"].get<double>(), 0.0);
   EXPECT_EQ(m["bucket_impacts"].get<double>(), 0.0) << "peak " << report["peak_bucket_acceleration_m_s2"];
   if (m["material_moved_kg"].get<double>() > 0.0) {
     EXPECT_GE(report["passes"].get<int>(), 1);
     EXPECT_GT(m["bucket_fill_per_pass"].get<double>(), 200.0);
-    EXPECT_LT(m["spillage_kg"].get<double>(), 0.25 * m["material_moved_kg"].get<double>());
+    EXPECT_LT(m["spillage_kg"].get<double>(), 0.35 * m["material_moved_kg"].get<double>());
     EXPECT_GT(m["material_rate_kg_h"].get<double>(), 0.0);
   }
   if (std::string(sc.name) == "driving_course") {  // four gates in order, each an event

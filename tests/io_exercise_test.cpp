@@ -83,7 +83,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"cell_m=\"0.05\"", "cell_m=\"0.0001\"", {"<soil>", "cell_m", "out of range"}},
         BadCase{"type=\"dry_sand\"", "type=\"wet_sand\"", {"<soil>", "wet_sand", "not a soil"}},
         BadCase{"type=\"dry_sand\"", "type=\"dry_sand\" model=\"mud\"", {"<soil>", "model", "mud", "expected \"automaton\""}},
-        BadCase{"type=\"dry_sand\"", "type=\"dry_sand\" fast_flow=\"yes\"", {"<soil>", "fast_flow", "yes", "expected \"on\""}},
+        BadCase{"fast_flow=\"on\"", "fast_flow=\"yes\"", {"<soil>", "fast_flow", "yes", "expected \"on\""}},
         BadCase{"to=\"target\"", "to=\"targte\"", {"<task>", "targte", "no <zone>"}},
         BadCase{"mass_kg=\"800\"", "mass_kg=\"lots\"", {"<task>", "mass_kg", "expected a number"}},
         BadCase{"type=\"move_material\"", "type=\"dance\"", {"<task>", "dance", "expected drive_course"}},
