@@ -325,7 +325,7 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     core_[c] = grid.surface_at(c);
-    rise_[n] = d_ * (erosion_ && flowing_[c] > 0 ? std::min(mu_start_, mu_) : mu_start_);
+    rise_[n] = d_ * (erosion_ && flowing_[c] > 0 ? mu_ : mu_start_);  // mu_ <= mu_start_ (constructor)
   }
   // The neighbours before a cell in raster order as (di, dj); those after it are their opposites.
   constexpr int kBefore[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
@@ -409,7 +409,8 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
       flowing = std::min(q, std::max(flowing, failing));
     }
     // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
-    // min_flow_layer_m, the automaton's transport layer): it lies down, and
+    // min_flow_layer_m, scaled with the grains in a dimensionless
+    // comparison): it lies down, and
     // the automaton's slow regime has it; unless a layer of at least h_stop
     // still flows into it (the thin edge of an advancing front, pushed on by
     // the layer behind: laid down each sub-step, it built a ramp the flow had

@@ -67,7 +67,8 @@ struct MomentumFlowParameters {
   // The grain diameter of the soil's thin-layer friction (m; 0: the
   // soil's, SoilFlowParameters). A dimensionless comparison scales it with
   // the other lengths (experiments/column_collapse.h); the soil's h_stop
-  // (min_flow_layer_m), a grain-scale length too, scales with it.
+  // (min_flow_layer_m), a grain-scale length too, scales with it (not where
+  // the soil gives no grain diameter: nothing to scale against).
   double grain_diameter_m = 0.0;
   // Coulomb friction of a layer flowing on the bare hard base, with no
   // static soil under it (deg); 0: the bed friction. A laboratory floor
@@ -94,9 +95,10 @@ struct MomentumFlowParameters {
   // surface flows", J. Fluid Mech. 541).
   double side_wall_gap_m = 0.0;
   double side_wall_friction_deg = 0.0;
-  // A moving layer erodes the bed beneath it down to the bed friction
-  // (Daerr and Douady 1999); false: the core holds the repose angle under
-  // moving layers too.
+  // A moving layer erodes the bed beneath it down to the bed friction (the
+  // thick layer's, bed_friction_deg, not the thin-layer law's rise; Daerr
+  // and Douady 1999); false: the core holds the repose angle under moving
+  // layers too.
   bool erosion = true;
   // Failed material falls freely and lands without horizontal momentum
   // (Larrieu et al. 2006); false: it joins the flowing layer at once.

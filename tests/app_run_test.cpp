@@ -20,6 +20,7 @@
 #include "skidsim_lcm/event_t.hpp"
 #include "skidsim_lcm/state_t.hpp"
 #include "skidsim_lcm/terrain_tile_t.hpp"
+#include "io/exercise.h"
 #include "io/heightmap.h"
 #include "io/png_image.h"
 #include "tests/app_support.h"
@@ -177,18 +178,20 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
   EXPECT_NE(html.find("PASSED"), std::string::npos);
   EXPECT_NE(html.find("<polyline"), std::string::npos);
   // The measured handling metrics: the engine worked; where material was
-  // carried, each pass was counted with its fill and most of it arrived. The
-  // sand sites have fast flows on, so their loads feel the machine's
-  // acceleration: the scripts throw the arm's and the drive's levers as an
-  // operator in a hurry would, and spill a quarter to a third of what they
-  // move (26-32 %; 1 % with fast flows off, docs/material.md).
+  // carried, each pass was counted with its fill and most of it arrived.
+  // Where the site has fast flows on, the loads feel the machine's
+  // acceleration: the scripts throw the arm's and the pivot's levers as an
+  // operator in a hurry would, and spill 15-32 % of what they move (1 % and
+  // less with fast flows off, docs/material.md); elsewhere under a quarter.
   const auto& m = report["metrics"];
   EXPECT_GT(m["engine_energy_MJ"].get<double>(), 0.0);
   EXPECT_EQ(m["bucket_impacts"].get<double>(), 0.0) << "peak " << report["peak_bucket_acceleration_m_s2"];
   if (m["material_moved_kg"].get<double>() > 0.0) {
     EXPECT_GE(report["passes"].get<int>(), 1);
     EXPECT_GT(m["bucket_fill_per_pass"].get<double>(), 200.0);
-    EXPECT_LT(m["spillage_kg"].get<double>(), 0.35 * m["material_moved_kg"].get<double>());
+    const skidsim::io::Exercise ex = skidsim::io::load_exercise(base + ".xml");
+    const bool fast_flows = !ex.soils.empty() && ex.soils.front().fast_flow;
+    EXPECT_LT(m["spillage_kg"].get<double>(), (fast_flows ? 0.35 : 0.25) * m["material_moved_kg"].get<double>());
     EXPECT_GT(m["material_rate_kg_h"].get<double>(), 0.0);
   }
   if (std::string(sc.name) == "driving_course") {  // four gates in order, each an event
