@@ -28,8 +28,7 @@ int render_frame(const RenderJob& job) {
   if (job.at_s > 0.0 && job.script_path.empty()) throw io::InputError("--at-s needs --script (what the operator does until then)");
   const int width = job.width > 0 ? job.width : ex.recording.width;
   const int height = job.height > 0 ? job.height : ex.recording.height;
-  if (width < 16 || height < 16 || width > 8192 || height > 8192)
-    throw io::InputError("--width / --height: expected 16 to 8192 pixels");
+  io::check_frame_size(width, height, "--width / --height");
   const std::string camera_name = job.camera.empty() ? ex.recording.camera : job.camera;
   // The exercise's world at the start, or after its script has played for
   // --at-s as a session (as skidsim run plays it; a session that ends

@@ -120,8 +120,7 @@ class SessionRecording {
         width_(job.frame_width > 0 ? job.frame_width : ex.recording.width),
         height_(job.frame_height > 0 ? job.frame_height : ex.recording.height) {
     io::check_frame_rate(fps_);
-    if (width_ < 16 || height_ < 16 || width_ > 8192 || height_ > 8192)
-      throw io::InputError("--frame-width / --frame-height: expected 16 to 8192");
+    io::check_frame_size(width_, height_, "--frame-width / --frame-height");
     if (job.render_backend != "auto" && job.render_backend != "egl" && job.render_backend != "osmesa")
       throw io::InputError("--render-backend '" + job.render_backend + "': expected auto, egl or osmesa");
     try {

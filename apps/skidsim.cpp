@@ -74,6 +74,15 @@ CLI::Validator number_in(double lo, double hi) {
       "NUMBER in " + range.str());
 }
 
+// A frame's width and height options, each checked against the frame's
+// range (io::kMinFramePixels to io::kMaxFramePixels).
+void add_frame_size(CLI::App& cmd, const std::string& width_name, const std::string& height_name, int& width, int& height,
+                    const std::string& help) {
+  const CLI::Validator pixels = number_in(skidsim::io::kMinFramePixels, skidsim::io::kMaxFramePixels);
+  cmd.add_option(width_name, width, help)->check(pixels);
+  cmd.add_option(height_name, height, help)->check(pixels);
+}
+
 // Options every job has: its run directory and its soil.
 void add_job_options(CLI::App* cmd, std::string& out_dir, std::string& soil_id, std::string& soil_table) {
   cmd->add_option("--out", out_dir, "Run directory to write")->capture_default_str();
@@ -315,8 +324,8 @@ void add_session_command(CLI::App& app, Commands& c) {
                     "Render frames (the exercise's <record>: rate, camera, size) into RUN/frames on a second thread;\n"
                     "a video too (session.mp4) when ffmpeg is on the PATH");
   c.run_cmd->add_option("--camera", c.run.camera, "With --record: cab, chase, aerial or fixed (default: the exercise's)");
-  c.run_cmd->add_option("--frame-width", c.run.frame_width, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
-  c.run_cmd->add_option("--frame-height", c.run.frame_height, "With --record: pixels (default: the exercise's)")->check(number_in(16.0, 8192.0));
+  add_frame_size(*c.run_cmd, "--frame-width", "--frame-height", c.run.frame_width, c.run.frame_height,
+                 "With --record: pixels (default: the exercise's)");
   c.run_cmd->add_option("--fps", c.run.frame_fps, "With --record: frames a second, at most 25 (default: the exercise's)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
   c.run_cmd->add_option("--render-backend", c.run.render_backend, "With --record: auto, egl or osmesa")->capture_default_str();
   c.run_cmd->add_flag("--terrain-tiles", c.run.terrain_tiles,
@@ -335,8 +344,7 @@ void add_session_tools(CLI::App& app, Commands& c) {
   c.render_cmd->add_option("--out", c.render_job.out_path, "PNG to write")->capture_default_str();
   c.render_cmd->add_option("--camera", c.render_job.camera, "cab, chase, aerial or fixed (default: the exercise's)");
   c.render_cmd->add_option("--backend", c.render_job.backend, "auto, egl or osmesa")->capture_default_str();
-  c.render_cmd->add_option("--width", c.render_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
-  c.render_cmd->add_option("--height", c.render_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  add_frame_size(*c.render_cmd, "--width", "--height", c.render_job.width, c.render_job.height, "Pixels (default: the exercise's <record>)");
   c.render_cmd->add_option("--script", c.render_job.script_path, "Operator script to play first");
   c.render_cmd->add_option("--at-s", c.render_job.at_s, "Simulated seconds of the script to play first")->check(number_in(0.0, 86400.0));
 
@@ -347,8 +355,7 @@ void add_session_tools(CLI::App& app, Commands& c) {
   c.review_cmd->add_option("run_dir", c.review_job.run_dir, "Run directory (of skidsim run)")->required();
   c.review_cmd->add_option("--camera", c.review_job.camera, "Re-render from this camera: cab, chase, aerial or fixed");
   c.review_cmd->add_option("--fps", c.review_job.fps, "Re-render at this rate (frames a second, at most 25)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
-  c.review_cmd->add_option("--width", c.review_job.width, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
-  c.review_cmd->add_option("--height", c.review_job.height, "Re-render size in pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  add_frame_size(*c.review_cmd, "--width", "--height", c.review_job.width, c.review_job.height, "Re-render size in pixels (default: the exercise's <record>)");
   c.review_cmd->add_option("--backend", c.review_job.backend, "Re-render with auto, egl or osmesa")->capture_default_str();
   c.review_cmd->add_option("--exercise", c.review_job.exercise_path, "The exercise file (default: the one report.json names)");
 
@@ -360,8 +367,7 @@ void add_session_tools(CLI::App& app, Commands& c) {
   c.view_cmd->add_option("--camera", c.view_job.camera, "cab, chase, aerial or fixed, or several separated by commas\n"
                                                         "(default: the exercise's)");
   c.view_cmd->add_option("--fps", c.view_job.fps, "Frames a second, at most 25 (default: the exercise's)")->check(number_in(0.1, skidsim::io::kMaxRecordFps));
-  c.view_cmd->add_option("--width", c.view_job.width, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
-  c.view_cmd->add_option("--height", c.view_job.height, "Pixels (default: the exercise's <record>)")->check(number_in(16.0, 8192.0));
+  add_frame_size(*c.view_cmd, "--width", "--height", c.view_job.width, c.view_job.height, "Pixels (default: the exercise's <record>)");
   c.view_cmd->add_option("--backend", c.view_job.backend, "auto, egl or osmesa")->capture_default_str();
   c.view_cmd->add_option("--exercise", c.view_job.exercise_path, "The exercise file (default: the one report.json names)");
   c.view_cmd->add_option("--out", c.view_job.out_dir, "Where the frames go (default: RUN_DIR/view_<camera>_<fps>fps; live:\n"

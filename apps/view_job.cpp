@@ -101,7 +101,7 @@ void open_drawing(const ViewJob& job, io::Exercise exercise, const vehicle::Load
   d.width = job.width > 0 ? job.width : d.exercise.recording.width;
   d.height = job.height > 0 ? job.height : d.exercise.recording.height;
   io::check_frame_rate(d.fps);
-  if (d.width < 16 || d.height < 16 || d.width > 8192 || d.height > 8192) throw io::InputError("--width / --height: expected 16 to 8192");
+  io::check_frame_size(d.width, d.height, "--width / --height");
   if (job.backend != "auto" && job.backend != "egl" && job.backend != "osmesa")
     throw io::InputError("--backend '" + job.backend + "': expected auto, egl or osmesa");
   // The world as the exercise builds it: its meshes and sizes (it never steps).

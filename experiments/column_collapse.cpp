@@ -99,8 +99,6 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
     acc += volume[k];
     if (area[k] > 0.0 && volume[k] / area[k] >= kEdgeThicknessOverR0 * c.r0_m) f.front_edge_m = d * (k + 1);
   }
-  f.profile_m.resize(bins);
-  for (int k = 0; k < bins; ++k) f.profile_m[k] = area[k] > 0.0 ? volume[k] / area[k] : 0.0;
   return f;
 }
 

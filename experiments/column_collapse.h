@@ -54,9 +54,6 @@ struct CollapseFrame {
   // grid's axes and along its diagonals from the axis: a round deposit has
   // them alike.
   double edge_along_axes_m = 0.0, edge_along_diagonals_m = 0.0;
-  // The deposit's mean thickness in bins one cell wide along the distance
-  // from the axis (or the wall), as dem/tools/collapse.py's deposit profile.
-  std::vector<double> profile_m;
 };
 
 struct CollapseRun {

@@ -506,8 +506,8 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
       if (rec.camera.empty()) rec.camera = "chase";
       if (rec.camera != "cab" && rec.camera != "chase" && rec.camera != "aerial" && rec.camera != "fixed")
         a.fail("attribute 'camera' = \"" + rec.camera + "\": expected cab, chase, aerial or fixed");
-      rec.width = static_cast<int>(a.has("width") ? a.number_in("width", 16, 8192) : rec.width);
-      rec.height = static_cast<int>(a.has("height") ? a.number_in("height", 16, 8192) : rec.height);
+      rec.width = static_cast<int>(a.has("width") ? a.number_in("width", kMinFramePixels, kMaxFramePixels) : rec.width);
+      rec.height = static_cast<int>(a.has("height") ? a.number_in("height", kMinFramePixels, kMaxFramePixels) : rec.height);
       if (a.has("fixed_eye") != a.has("fixed_target")) a.fail("give both fixed_eye and fixed_target, or neither");
       if (a.has("fixed_eye")) {
         rec.fixed_eye_m = a.vector3_in("fixed_eye", -kMaxCoordinate_m, kMaxCoordinate_m);
@@ -539,6 +539,11 @@ Exercise load_exercise(const std::string& path, const std::string& soil_table_pa
 
 void check_frame_rate(double fps) {
   if (!(fps >= 0.1 && fps <= kMaxRecordFps)) throw InputError("--fps: expected 0.1 to 25 frames a second (the scene stream's rate)");
+}
+
+void check_frame_size(int width, int height, const std::string& options) {
+  if (width < kMinFramePixels || height < kMinFramePixels || width > kMaxFramePixels || height > kMaxFramePixels)
+    throw InputError(options + ": expected " + std::to_string(kMinFramePixels) + " to " + std::to_string(kMaxFramePixels) + " pixels");
 }
 
 }  // namespace skidsim::io

@@ -141,6 +141,10 @@ inline bool channel_name_text(const std::string& s) { return s.find_first_not_of
 inline constexpr double kMaxRecordFps = 25.0;
 // io::InputError unless 0.1 <= fps <= kMaxRecordFps, naming --fps.
 void check_frame_rate(double fps);
+// A frame's size in pixels, each way, from the exercise's <record> or an
+// option: io::InputError naming `options` ("--width / --height") outside it.
+inline constexpr int kMinFramePixels = 16, kMaxFramePixels = 8192;
+void check_frame_size(int width, int height, const std::string& options);
 struct Recording {
   double fps = 10.0;
   std::string camera = "chase";  // cab, chase, aerial, fixed

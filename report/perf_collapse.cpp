@@ -143,8 +143,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "carries velocities on the cells' faces (Savage-Hutter, Coulomb friction on its bed at the soil's flowing "
       "friction, " + fmt("%.1f", sand.flowing_friction_deg()) + " deg, the mu_s of the mu(I) law, rising in "
       "layers a few grains thick as Pouliquen's law has it, with the grains (and h_stop) scaled with r0; on the "
-      "bare floor at "
-      "the floor's, " + fmt("%.2f", dem.front().floor_friction_deg) + " deg; in the slot, also on its side walls at " +
+      "bare floor at the floor's, " + fmt("%.2f", dem.front().floor_friction_deg) + " deg; in the slot, also on its side walls at " +
       fmt("%.1f", dem.front().slot_wall_friction_deg) + " deg; all from the DEM's inclined layers, "
       "dem/calibration/chute.in) until friction stops it, eroding the bed it passes over down to the thick "
       "layer's flowing friction; it runs beside the automaton, which keeps the slow avalanches. \"momentum, hydrostatic\" is the same "

@@ -410,11 +410,11 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     }
     // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
     // min_flow_layer_m, scaled with the grains in a dimensionless
-    // comparison): it lies down, and
-    // the automaton's slow regime has it; unless a layer of at least h_stop
-    // still flows into it (the thin edge of an advancing front, pushed on by
-    // the layer behind: laid down each sub-step, it built a ramp the flow had
-    // to climb), or it slides on a floor of its own (lies_down).
+    // comparison): it lies down, and the automaton's slow regime has it;
+    // unless a layer of at least h_stop still flows into it (the thin edge
+    // of an advancing front, pushed on by the layer behind: laid down each
+    // sub-step, it built a ramp the flow had to climb), or it slides on a
+    // floor of its own (lies_down).
     layer_[n] = lies_down(grid, c, flowing) ? 0 : flowing;
   }
   for (std::size_t n = 0; n < candidates_.size(); ++n) {

@@ -27,8 +27,9 @@
 // Erosion: under a moving layer the core's slope is held to the thick
 // layer's flowing friction instead: soil at rest between the stop and start
 // angles is metastable, and an avalanche passing over it carries it away
-// down to the angle at which a layer as deep as the bed stops (Daerr and Douady 1999, "Two types of avalanche behaviour in
-// granular media", Nature 399). This is the fast limit of BCRE's exchange
+// down to the angle at which a layer as deep as the bed stops (Daerr and
+// Douady 1999, "Two types of avalanche behaviour in granular media",
+// Nature 399). This is the fast limit of BCRE's exchange
 // between rolling and static grains (Bouchaud et al. 1994), whose rate, the
 // flow's speed over a grain, is 10^2-10^4 per second: fast beside a
 // collapse's or a dump's second.
