@@ -1,8 +1,10 @@
 // The fast flow (terrain/momentum_flow.h): Savage-Hutter's earth
 // pressure against Rankine's closed form, Ritter's dam-break, a dam-break
 // that never rises above its dam within the stability bound and does past
-// it, exact books and bit-for-bit repeats of a collapse, the bound refused
-// past its limit, and a terrain at rest costing nothing.
+// it, exact books and bit-for-bit repeats of a collapse, a slab sliding as
+// a Coulomb block on the bare base and on a deep bed (the thin-layer law on
+// the grains' whole depth), erosion, the bound refused past its limit, and
+// a terrain at rest costing nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -250,6 +252,61 @@ TEST(MomentumFlow, ASlabOnTheBareFloorSlidesAsACoulombBlockAtTheFloorsFriction) 
     EXPECT_GE(slid, 0.95 * block) << floor_deg;
     EXPECT_LE(slid, 1.15 * block) << floor_deg;
   }
+}
+
+// The thin-layer law (Pouliquen 1999) reads the grains' whole depth above
+// the hard base, as its h_stop is measured (the deposit left on a rough
+// plane) and as Daerr and Douady (1999) found it on erodible beds: a slab
+// 5 cm thick (six of dem_sand's 8 mm grains) sent at v0 over a level bed
+// 0.5 m deep slides as a Coulomb block at the thick layer's friction
+// theta_1, where reading the layer alone gives it the thin layer's steeper
+// one; on the bare base the two readings agree.
+double slab_on_a_bed_slide_m(bool whole_depth, double bed_m, double v0_m_s, SoilFlowParameters* soil_out) {
+  const GridSpec spec = strip(240);
+  SoilFlowParameters soil = pile_angled_sand();
+  soil.flowing_friction_angle_deg = 23.74;  // dem_sand's (assets/soils.xml)
+  soil.grain_diameter_m = 0.008;
+  soil.thin_layer_friction_angle_deg = 36.46;
+  soil.thin_layer_decay_grains = 7.617;
+  *soil_out = soil;
+  GranularGrid g(spec, soil, 0.002, 100000);
+  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, bed_m + (i >= 20 && i < 40 ? 0.05 : 0.0));
+  MomentumFlowParameters p;
+  p.thin_layer_whole_depth = whole_depth;
+  MomentumFlow flow(g, p, 0.002);
+  const std::int64_t slab = std::llround(0.05 / kHeightQuantumM);
+  auto centre_m = [&] {  // the slab's: what stands above the bed
+    double m = 0.0, mx = 0.0;
+    for (int i = 0; i < spec.nx; ++i) {
+      const double above = g.material_m(i, 0) - bed_m;
+      m += above, mx += above * i * spec.cell_size_m;
+    }
+    return mx / m;
+  };
+  const double x0 = centre_m();
+  for (int i = 20; i < 40; ++i) flow.land(g, g.index(i, 0), slab, v0_m_s, 0.0);
+  for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
+  EXPECT_EQ(flow.moving_cells(), 0u);
+  EXPECT_TRUE(g.ledger().balanced());
+  return centre_m() - x0;
+}
+
+TEST(MomentumFlow, TheThinLayerLawReadsTheGrainsWholeDepth) {
+  const double v0 = 2.0;
+  SoilFlowParameters soil;
+  const double on_bed = slab_on_a_bed_slide_m(true, 0.5, v0, &soil);
+  const double layer_alone = slab_on_a_bed_slide_m(false, 0.5, v0, &soil);
+  const double tan1 = std::tan(soil.flowing_friction_angle_deg * kPi / 180.0);
+  const double block = v0 * v0 / (2.0 * kGravity_m_s2 * tan1);
+  std::printf("[ measured ] a 5 cm slab at %.0f m/s on a 0.5 m bed slid %.3f m reading the whole depth, %.3f m the layer "
+              "alone (Coulomb block at theta_1 %.3f m)\n", v0, on_bed, layer_alone, block);
+  EXPECT_GE(on_bed, 0.95 * block);
+  EXPECT_LE(on_bed, 1.15 * block);
+  EXPECT_LT(layer_alone, 0.85 * block);
+  // On the bare base the depth is the layer's, but for the grains a thin
+  // tail lays down on the way.
+  const double bare = slab_on_a_bed_slide_m(false, 0.0, v0, &soil);
+  EXPECT_NEAR(slab_on_a_bed_slide_m(true, 0.0, v0, &soil), bare, 0.01 * bare);
 }
 
 // Erosion: a bed at rest at 30 deg, between the flowing friction (24 deg)
