@@ -220,20 +220,25 @@ TEST(MomentumFlow, ADamBreakStaysBelowItsDamWithinTheBoundAndRisesPastIt) {
 // pressure of a free surface on a level base is nil, so friction alone takes
 // its momentum and its centre of mass stops v0^2 / (2 g tan delta) on (at
 // least: a part at rest feels no friction). Where the base is bare it rubs
-// with the floor's friction, not the soil's.
-double slab_slide_m(const MomentumFlowParameters& p, double v0_m_s) {
-  const GridSpec spec = strip(240);
-  SoilFlowParameters soil;  // dry sand: flowing friction the stop angle, 30 deg
+// with the floor's friction, not the soil's. On a bed of soil bed_m deep
+// (below) the centre is that of what stands above the bed.
+double slab_slide_m(const MomentumFlowParameters& p, double v0_m_s, const SoilFlowParameters& soil = SoilFlowParameters{},
+                    double bed_m = 0.0) {
+  const GridSpec spec = strip(240);  // dry sand by default: flowing friction the stop angle, 30 deg
   GranularGrid g(spec, soil, 0.002, 100000);
-  for (int i = 20; i < 40; ++i) g.set_material_m(i, 0, 0.05);
+  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, bed_m + (i >= 20 && i < 40 ? 0.05 : 0.0));
   MomentumFlow flow(g, p, 0.002);
   auto centre_m = [&] {
     double m = 0.0, mx = 0.0;
-    for (int i = 0; i < spec.nx; ++i) m += g.material_m(i, 0), mx += g.material_m(i, 0) * i * spec.cell_size_m;
+    for (int i = 0; i < spec.nx; ++i) {
+      const double above = g.material_m(i, 0) - bed_m;
+      m += above, mx += above * i * spec.cell_size_m;
+    }
     return mx / m;
   };
   const double x0 = centre_m();
-  for (int i = 20; i < 40; ++i) flow.land(g, g.index(i, 0), g.material_quanta(i, 0), v0_m_s, 0.0);
+  const std::int64_t slab = std::llround(0.05 / kHeightQuantumM);
+  for (int i = 20; i < 40; ++i) flow.land(g, g.index(i, 0), slab, v0_m_s, 0.0);
   for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
   EXPECT_EQ(flow.moving_cells(), 0u);
   EXPECT_TRUE(g.ledger().balanced());
@@ -262,33 +267,15 @@ TEST(MomentumFlow, ASlabOnTheBareFloorSlidesAsACoulombBlockAtTheFloorsFriction) 
 // theta_1, where reading the layer alone gives it the thin layer's steeper
 // one; on the bare base the two readings agree.
 double slab_on_a_bed_slide_m(bool whole_depth, double bed_m, double v0_m_s, SoilFlowParameters* soil_out) {
-  const GridSpec spec = strip(240);
   SoilFlowParameters soil = pile_angled_sand();
   soil.flowing_friction_angle_deg = 23.74;  // dem_sand's (assets/soils.xml)
   soil.grain_diameter_m = 0.008;
   soil.thin_layer_friction_angle_deg = 36.46;
   soil.thin_layer_decay_grains = 7.617;
   *soil_out = soil;
-  GranularGrid g(spec, soil, 0.002, 100000);
-  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, bed_m + (i >= 20 && i < 40 ? 0.05 : 0.0));
   MomentumFlowParameters p;
   p.thin_layer_whole_depth = whole_depth;
-  MomentumFlow flow(g, p, 0.002);
-  const std::int64_t slab = std::llround(0.05 / kHeightQuantumM);
-  auto centre_m = [&] {  // the slab's: what stands above the bed
-    double m = 0.0, mx = 0.0;
-    for (int i = 0; i < spec.nx; ++i) {
-      const double above = g.material_m(i, 0) - bed_m;
-      m += above, mx += above * i * spec.cell_size_m;
-    }
-    return mx / m;
-  };
-  const double x0 = centre_m();
-  for (int i = 20; i < 40; ++i) flow.land(g, g.index(i, 0), slab, v0_m_s, 0.0);
-  for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
-  EXPECT_EQ(flow.moving_cells(), 0u);
-  EXPECT_TRUE(g.ledger().balanced());
-  return centre_m() - x0;
+  return slab_slide_m(p, v0_m_s, soil, bed_m);
 }
 
 TEST(MomentumFlow, TheThinLayerLawReadsTheGrainsWholeDepth) {

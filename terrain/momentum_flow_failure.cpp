@@ -1,0 +1,184 @@
+// The fast flow's failure (terrain/momentum_flow.h): the stable core under
+// the examined cells, what fails above it, raining and the layers thinner
+// than h_stop lying down; docs/terrain_model.md, "Fast flows".
+#include "terrain/momentum_flow.h"
+#include "common/physical_constants.h"
+#include "terrain/momentum_flow_cells.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+namespace skidsim::terrain {
+
+using namespace momentum_cells;
+
+void MomentumFlow::raster_order_candidates() {
+  // The failure's passes run in raster order. The listed flags inside the
+  // examined cells' bounding box give that order in one scan, eight cells a
+  // word where none is listed (a sort costs n log n comparisons).
+  if (candidates_.size() < 2) return;
+  int lo = candidates_[0], hi = lo, i_lo = nx_, i_hi = 0;
+  for (int c : candidates_) {
+    lo = std::min(lo, c), hi = std::max(hi, c);
+    const int i = c % nx_;
+    i_lo = std::min(i_lo, i), i_hi = std::max(i_hi, i);
+  }
+  candidates_.clear();
+  for (int row = lo / nx_ * nx_; row <= hi; row += nx_) {
+    const int last = row + i_hi;
+    int c = row + i_lo;
+    while (c <= last) {
+      std::uint64_t word = 0;
+      if (c + 8 <= last + 1) {
+        std::memcpy(&word, &listed_[static_cast<std::size_t>(c)], sizeof word);
+        if (word == 0) {
+          c += 8;
+          continue;
+        }
+      }
+      if (listed_[static_cast<std::size_t>(c)]) candidates_.push_back(c);
+      ++c;
+    }
+  }
+}
+
+bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
+  // A face moving into the cell from a neighbour's flowing layer.
+  const std::array<int, 4> f = faces_of(cell);
+  const int i = cell % nx_, j = cell / nx_;
+  const double into[4] = {-ux_face_[f[0]], ux_face_[f[1]], -uy_face_[f[2]], uy_face_[f[3]]};
+  for (int k = 0; k < 4; ++k) {
+    if (!(into[k] > 0.0)) continue;
+    const int nb = neighbour(grid, i, j, k);
+    if (nb >= 0 && flowing_[nb] * kHeightQuantumM >= min_layer_m_) return true;
+  }
+  return false;
+}
+
+void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
+  // Failure: the examined cells' stable core is the highest surface under
+  // the terrain whose slope nowhere exceeds the start angle (the repose
+  // angle: the infinite-slope limit of soil at rest, docs/terrain_model.md),
+  // or the thick layer's flowing friction (theta_1) up to a cell where a
+  // layer moves (erosion of the metastable bed, Daerr and Douady 1999: the
+  // bed under the layer is deep, so it is stable only to the angle at which
+  // a thick layer stops, whatever the thin layer's own friction on it; the
+  // DEM's deposits lie at about theta_1); everything above it fails at
+  // once and joins the flowing layer, the core stays. A column so keeps its
+  // top while a < tan(repose) (Lajeunesse et al. 2004 and Lube et al. 2004
+  // measured 0.7-0.74) and a peak fails
+  // towards every lower side. The core is a chamfer distance transform
+  // (8 neighbours) over the examined cells, the others standing at their
+  // surface: Rosenfeld and Pfaltz's two raster passes, forward over the
+  // neighbours before a cell and back over those after it, repeated until
+  // nothing changes (the walls and the erosion's varying rise can ask for
+  // more than one pair).
+  rise_.resize(candidates_.size());
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    core_[c] = grid.surface_at(c);
+    rise_[n] = d_ * (erosion_ && flowing_[c] > 0 ? mu_ : mu_start_);  // mu_ <= mu_start_ (constructor)
+  }
+  // The neighbours before a cell in raster order as (di, dj); those after it are their opposites.
+  constexpr int kBefore[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+  auto relax = [&](std::size_t n, int sign) {
+    const int c = candidates_[n], i = c % nx_, j = c / nx_;
+    const double rise = rise_[n], rise_diag = rise * std::sqrt(2.0);
+    double core = core_[c];
+    const auto level = [&](int nb) { return listed_[nb] ? core_[nb] : grid.surface_at(nb); };  // examined: its core
+    if (i > 0 && j > 0 && i + 1 < nx_ && j + 1 < ny_) {
+      // Inside the grid: the neighbours by offset.
+      for (const auto& o : kBefore) {
+        const int nb = c + sign * (o[0] + o[1] * nx_);
+        if (!grid.covered(nb)) core = std::min(core, level(nb) + (o[0] != 0 && o[1] != 0 ? rise_diag : rise));
+      }
+    } else {
+      for (const auto& o : kBefore) {
+        const int di = sign * o[0], dj = sign * o[1], ni = i + di, nj = j + dj;
+        const Edge edge = ni < 0 ? kEdgeXMin : ni >= nx_ ? kEdgeXMax : nj < 0 ? kEdgeYMin : kEdgeYMax;
+        const int nb = cell_or_edge(grid, ni, nj, edge);
+        const double rise_to_it = di != 0 && dj != 0 ? rise_diag : rise;
+        if (nb >= 0) core = std::min(core, level(nb) + rise_to_it);
+        else if (nb == -1) core = std::min(core, grid.base_at(c) + rise_to_it);  // a drop-off: bare base at the cell's own level
+      }
+    }
+    core = std::max(core, static_cast<double>(grid.base_at(c)));
+    const bool changed = core < core_[c];
+    core_[c] = core;
+    return changed;
+  };
+  // A forward pass leaves every cell within its rise of the neighbours
+  // before it, a backward pass of those after it; so once a pass after the
+  // first changes nothing, both hold and the core is found.
+  for (int pass = 0; pass < 128; ++pass) {
+    bool changed = false;
+    if (pass % 2 == 0)
+      for (std::size_t n = 0; n < candidates_.size(); ++n) changed = relax(n, 1) || changed;
+    else
+      for (std::size_t n = candidates_.size(); n-- > 0;) changed = relax(n, -1) || changed;
+    if (!changed && pass > 0) break;
+  }
+  // The new layers go to layer_ first, the faces' new momentum to keep_:
+  // whether a thin layer is fed reads its neighbours as they were before
+  // the pass.
+  layer_.resize(candidates_.size());
+  keep_.assign(candidates_.size(), 1.0);
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    const std::int64_t q = grid.loose_quanta(c);
+    // Less than h_stop above the core does not fail (it could not flow).
+    std::int64_t failing = std::llround((grid.surface_at(c) - core_[c]) / kHeightQuantumM);
+    if (failing * kHeightQuantumM < min_layer_m_) failing = 0;
+    rain_[c] = std::min(rain_[c], q);
+    std::int64_t flowing = std::max<std::int64_t>(0, std::min(flowing_[c], q - rain_[c]));
+    if (raining_) {
+      // Raining (Larrieu, Staron and Hinch 2006): what newly fails falls
+      // freely in its cell, from rest, and lands on the layer beneath at its
+      // fall's speed g t with no horizontal momentum (the column above stays
+      // in contact with what it lands on). A cell whose rain has landed takes
+      // what fails there afterwards into its flowing layer at once: the fall
+      // is the release from rest, once an event (until nothing there fails).
+      const std::int64_t newly = std::min(q, failing) - flowing - rain_[c];
+      if (failing == 0) fell_[c] = 0;
+      if (newly > 0 && fell_[c] && rain_[c] == 0) {
+        flowing += newly;
+      } else if (newly > 0) {
+        if (rain_[c] == 0) rain_speed_[c] = 0.0;
+        rain_[c] += newly;
+      }
+      if (rain_[c] > 0) {
+        rain_speed_[c] += kGravity_m_s2 * dt_s;
+        const std::int64_t lands =
+            std::clamp<std::int64_t>(std::llround(rain_speed_[c] * dt_s / kHeightQuantumM), 1, rain_[c]);
+        rain_[c] -= lands;
+        if (rain_[c] == 0) fell_[c] = 1;
+        // The faces this cell feeds carry its layer's momentum, now spread
+        // over more mass (after the pass, like the layers).
+        keep_[n] = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
+        flowing += lands;
+      }
+    } else {
+      flowing = std::min(q, std::max(flowing, failing));
+    }
+    // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
+    // min_flow_layer_m, scaled with the grains in a dimensionless
+    // comparison): it lies down, and the automaton's slow regime has it;
+    // unless a layer of at least h_stop still flows into it (the thin edge
+    // of an advancing front, pushed on by the layer behind: laid down each
+    // sub-step, it built a ramp the flow had to climb), or it slides on a
+    // floor of its own (lies_down).
+    layer_[n] = lies_down(grid, c, flowing) ? 0 : flowing;
+  }
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    flowing_[c] = layer_[n];
+    if (keep_[n] == 1.0) continue;
+    const std::array<int, 4> faces = faces_of(c);
+    for (int k = 0; k < 4; ++k)
+      if (leaves(k, face_u(k, faces[k]))) face_u(k, faces[k]) *= keep_[n];
+  }
+}
+
+}  // namespace skidsim::terrain
