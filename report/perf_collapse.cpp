@@ -137,7 +137,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "at rest, over r0; t90: when the front first reaches 90 % of its final advance, over sqrt(H0 / g). "
       "The automaton moves soil at most at its rolling-layer rate and stops it at the repose angle, so fast flows "
       "run out short and stand tall; the slippage model likewise. \"automaton + momentum\" is the fast-flow "
-      "prototype (terrain/momentum_flow.h, docs/terrain_model.md): everything above the stable core (the highest "
+      "prototype (terrain/momentum_flow.h, docs/fast_flows.md): everything above the stable core (the highest "
       "surface no steeper than the repose angle, " + fmt("%.1f", sand.repose_angle_deg) + " deg) fails, falls "
       "freely and lands on a flowing layer without horizontal momentum (raining, Larrieu et al. 2006); the layer "
       "carries velocities on the cells' faces (Savage-Hutter, Coulomb friction on its bed at the soil's flowing "

@@ -97,7 +97,7 @@ std::string drawing_figure(bool quick) {
   }
 }
 
-// The fast flows' cost (docs/terrain_model.md, "Fast flows with momentum"):
+// The fast flows' cost (docs/fast_flows.md):
 // the session's first 45 s at 5 cm (filling, carrying, the first dump; the
 // same script both ways: whole sessions differ in length, since the fast
 // flows change what spills), with and without the site's fast flows, run
@@ -113,12 +113,12 @@ std::string fast_flow_cost() {
     without_lo = std::min(without_lo, without), without_hi = std::max(without_hi, without);
     with_lo = std::min(with_lo, with), with_hi = std::max(with_hi, with);
   }
-  return "With the site's fast flows on (`<soil fast_flow=\"on\">` as shipped, docs/terrain_model.md), the 5 cm session's first " +
+  return "With the site's fast flows on (`<soil fast_flow=\"on\">` as shipped, docs/fast_flows.md), the 5 cm session's first " +
          fmt("%g", kFirstS) + " simulated seconds (filling, carrying and the first dump) took " + fmt("%.2f", with_lo) + "-" +
          fmt("%.2f s", with_hi) + " against " + fmt("%.2f", without_lo) + "-" + fmt("%.2f s", without_hi) + " with them off (" +
          std::to_string(kRuns) + " runs each, in turn): " + fmt("%+.0f %%", 100.0 * (with_lo / without_lo - 1.0)) +
          " wall time, fastest against fastest (the issue's aim: within 20 %). Wall times here scatter by a third from run "
-         "to run; callgrind's instruction count, which does not, is in docs/terrain_model.md.\n\n";
+         "to run; callgrind's instruction count, which does not, is in docs/fast_flows.md.\n\n";
 }
 
 }  // namespace

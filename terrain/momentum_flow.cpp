@@ -28,7 +28,13 @@ double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pr
 double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, 1.0); }
 
 MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameters& params, double step_dt_s)
-    : step_dt_s_(step_dt_s), d_(grid.cell_size_m()), courant_(params.courant), max_substeps_(params.max_substeps), raining_(params.raining), erosion_(params.erosion), thin_layer_whole_depth_(params.thin_layer_whole_depth) {
+    : step_dt_s_(step_dt_s),
+      d_(grid.cell_size_m()),
+      courant_(params.courant),
+      max_substeps_(params.max_substeps),
+      raining_(params.raining),
+      erosion_(params.erosion),
+      thin_layer_whole_depth_(params.thin_layer_whole_depth) {
   const SoilFlowParameters& soil = grid.soil();
   const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.flowing_friction_deg();
   const double start_deg = params.start_friction_deg > 0.0 ? params.start_friction_deg : soil.repose_angle_deg;
@@ -279,9 +285,9 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double f = flowing_[donor] * kHeightQuantumM;
     // A layer with no static soil under it rubs on the hard base; on soil,
     // the thin-layer law reads the grains' depth down to the hard base
-    // (thin_layer_whole_depth) or the flowing layer's.
-    const double depth = thin_layer_whole_depth_ ? (grid.loose_quanta(donor) - rain_[donor]) * kHeightQuantumM : f;
-    const double mu = on_floor(grid, donor, flowing_[donor]) ? floor_mu_ : bed_friction_tan(depth);
+    // or compacted soil (thin_layer_whole_depth), or the flowing layer's.
+    const double depth_m = thin_layer_whole_depth_ ? (grid.loose_quanta(donor) - rain_[donor]) * kHeightQuantumM : f;
+    const double mu = on_floor(grid, donor, flowing_[donor]) ? floor_mu_ : bed_friction_tan(depth_m);
     const double speed = std::sqrt(un * un + cross * cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };

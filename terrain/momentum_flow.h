@@ -1,7 +1,7 @@
 // Fast granular flow with momentum on the automaton's grid: a depth-averaged
 // shallow granular flow of the Savage-Hutter kind (Savage and Hutter 1989,
 // "The motion of a finite mass of granular material down a rough incline",
-// J. Fluid Mech. 199), docs/terrain_model.md section "Fast flows".
+// J. Fluid Mech. 199), docs/fast_flows.md.
 //
 // The flowing layer f (quanta per cell, above the static soil) moves with
 // velocities on the cells' faces (a staggered grid, so that a peak pushes
@@ -84,10 +84,10 @@ struct MomentumFlowParameters {
   // 2005 for granular collapses); 0: Savage-Hutter's active and passive
   // values from the internal friction (the repose angle) and the bed
   // friction, whose switch between spreading and converging flow raises a
-  // dam-break above its own dam (docs/terrain_model.md), kept selectable.
+  // dam-break above its own dam (docs/fast_flows.md), kept selectable.
   double earth_pressure = 1.0;
   // Courant number of a sub-step: (|u| + |v| + sqrt(g K h)) dt / d, at
-  // most 0.5 (the bound, docs/terrain_model.md); past it only when
+  // most 0.5 (the bound, docs/fast_flows.md); past it only when
   // study_past_bound is set (a stability study: the tests show it breaking).
   double courant = 0.4;
   bool study_past_bound = false;
@@ -104,11 +104,11 @@ struct MomentumFlowParameters {
   // layers too.
   bool erosion = true;
   // The thickness the thin-layer law (Pouliquen 1999) reads: the grains'
-  // whole depth above the hard base, static and flowing, as the law's h_stop
-  // is measured (the deposit a flow leaves on a rough plane) and as Daerr
-  // and Douady (1999) found it on erodible beds (Edwards and Gray 2015 use
-  // it so); false: the flowing layer's alone, as if the static soil under
-  // it were a rigid rough base.
+  // whole depth above the hard base or compacted soil, static and flowing,
+  // as the law's h_stop is measured (the deposit a flow leaves on a rough
+  // plane) and as the thresholds of Daerr and Douady's (1999) erodible beds
+  // go (docs/fast_flows.md); false: the flowing layer's alone, as if the
+  // static soil under it were a rigid rough base.
   bool thin_layer_whole_depth = true;
   // Failed material falls freely and lands without horizontal momentum
   // (Larrieu et al. 2006); false: it joins the flowing layer at once.

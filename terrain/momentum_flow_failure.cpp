@@ -1,6 +1,6 @@
 // The fast flow's failure (terrain/momentum_flow.h): the stable core under
 // the examined cells, what fails above it, raining and the layers thinner
-// than h_stop lying down; docs/terrain_model.md, "Fast flows".
+// than h_stop lying down; docs/fast_flows.md.
 #include "terrain/momentum_flow.h"
 #include "common/physical_constants.h"
 #include "terrain/momentum_flow_cells.h"
@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace skidsim::terrain {
@@ -60,12 +61,13 @@ bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose
-  // angle: the infinite-slope limit of soil at rest, docs/terrain_model.md),
+  // angle: the infinite-slope limit of soil at rest, docs/fast_flows.md),
   // or the thick layer's flowing friction (theta_1) up to a cell where a
   // layer moves (erosion of the metastable bed, Daerr and Douady 1999: the
   // bed under the layer is deep, so it is stable only to the angle at which
-  // a thick layer stops, whatever the thin layer's own friction on it; the
-  // DEM's deposits lie at about theta_1); everything above it fails at
+  // a thick layer stops; the DEM's deposits lie at about theta_1; a bed
+  // only a few grains deep is held to theta_1 too, an approximation,
+  // docs/fast_flows.md); everything above it fails at
   // once and joins the flowing layer, the core stays. A column so keeps its
   // top while a < tan(repose) (Lajeunesse et al. 2004 and Lube et al. 2004
   // measured 0.7-0.74) and a peak fails

@@ -261,39 +261,39 @@ TEST(MomentumFlow, ASlabOnTheBareFloorSlidesAsACoulombBlockAtTheFloorsFriction) 
 
 // The thin-layer law (Pouliquen 1999) reads the grains' whole depth above
 // the hard base, as its h_stop is measured (the deposit left on a rough
-// plane) and as Daerr and Douady (1999) found it on erodible beds: a slab
-// 5 cm thick (six of dem_sand's 8 mm grains) sent at v0 over a level bed
-// 0.5 m deep slides as a Coulomb block at the thick layer's friction
-// theta_1, where reading the layer alone gives it the thin layer's steeper
-// one; on the bare base the two readings agree.
-double slab_on_a_bed_slide_m(bool whole_depth, double bed_m, double v0_m_s, SoilFlowParameters* soil_out) {
+// plane) and as the thresholds of Daerr and Douady's (1999) erodible beds
+// go: a slab 5 cm thick (six of dem_sand's 8 mm grains) sent at v0 over a
+// level bed slides as a Coulomb block at tan theta_stop of the whole depth,
+// the thick layer's theta_1 on a bed 0.5 m deep, a rougher one on a bed
+// 5 cm deep (0.10 m of grains); reading the layer alone gives it the thin
+// layer's own on both.
+SoilFlowParameters thin_layer_sand() {
   SoilFlowParameters soil = pile_angled_sand();
   soil.flowing_friction_angle_deg = 23.74;  // dem_sand's (assets/soils.xml)
   soil.grain_diameter_m = 0.008;
   soil.thin_layer_friction_angle_deg = 36.46;
   soil.thin_layer_decay_grains = 7.617;
-  *soil_out = soil;
-  MomentumFlowParameters p;
-  p.thin_layer_whole_depth = whole_depth;
-  return slab_slide_m(p, v0_m_s, soil, bed_m);
+  return soil;
 }
 
 TEST(MomentumFlow, TheThinLayerLawReadsTheGrainsWholeDepth) {
   const double v0 = 2.0;
-  SoilFlowParameters soil;
-  const double on_bed = slab_on_a_bed_slide_m(true, 0.5, v0, &soil);
-  const double layer_alone = slab_on_a_bed_slide_m(false, 0.5, v0, &soil);
+  const SoilFlowParameters soil = thin_layer_sand();
   const double tan1 = std::tan(soil.flowing_friction_angle_deg * kPi / 180.0);
-  const double block = v0 * v0 / (2.0 * kGravity_m_s2 * tan1);
-  std::printf("[ measured ] a 5 cm slab at %.0f m/s on a 0.5 m bed slid %.3f m reading the whole depth, %.3f m the layer "
-              "alone (Coulomb block at theta_1 %.3f m)\n", v0, on_bed, layer_alone, block);
-  EXPECT_GE(on_bed, 0.95 * block);
-  EXPECT_LE(on_bed, 1.15 * block);
-  EXPECT_LT(layer_alone, 0.85 * block);
-  // On the bare base the depth is the layer's, but for the grains a thin
-  // tail lays down on the way.
-  const double bare = slab_on_a_bed_slide_m(false, 0.0, v0, &soil);
-  EXPECT_NEAR(slab_on_a_bed_slide_m(true, 0.0, v0, &soil), bare, 0.01 * bare);
+  const double tan2 = std::tan(soil.thin_layer_friction_angle_deg * kPi / 180.0);
+  const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
+  for (double bed_m : {0.5, 0.05}) {
+    MomentumFlowParameters whole, layer_alone;
+    layer_alone.thin_layer_whole_depth = false;
+    const double slid = slab_slide_m(whole, v0, soil, bed_m), slid_alone = slab_slide_m(layer_alone, v0, soil, bed_m);
+    // Pouliquen (1999) at the whole depth, the bed and the slab.
+    const double mu = tan1 + (tan2 - tan1) * std::exp(-(bed_m + 0.05) / decay_m);
+    const double block = v0 * v0 / (2.0 * kGravity_m_s2 * mu);
+    std::printf("[ measured ] a 5 cm slab at %.0f m/s on a %.2f m bed slid %.3f m reading the whole depth (Coulomb block "
+                "at its stop angle %.3f m), %.3f m the layer alone\n", v0, bed_m, slid, block, slid_alone);
+    EXPECT_NEAR(slid, block, 0.03 * block) << bed_m;
+    EXPECT_LT(slid_alone, 0.9 * slid) << bed_m;
+  }
 }
 
 // Erosion: a bed at rest at 30 deg, between the flowing friction (24 deg)
