@@ -4,10 +4,10 @@
 # (calibration, bed, blade runs, bucket; the wheel bed, its sinkage plates and the wheel runs;
 # the collapsing columns) and post-processes them into the committed CSVs. See dem/README.md.
 #
-#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute bed blade
-#                                            bucket wheel_bed plate wheel chute_post post
-#                                            wheel_post collapse collapse_post (default: all,
-#                                            in that order);
+#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute erodible bed
+#                                            blade bucket wheel_bed plate wheel chute_post
+#                                            erodible_post post wheel_post collapse
+#                                            collapse_post (default: all, in that order);
 #                                            optional stage "wide": the deep vertical cut in a
 #                                            0.5 m wide bin (its own bed, about 25 min more),
 #                                            then "post"
@@ -143,6 +143,26 @@ stage_chute_post() {
   local cal="$DEM/calibration/results"
   "$PY" "$DEM/tools/chute.py" "$cal" "$SCRATCH/chute"
   "$PY" "$DEM/tools/material_csv.py" "$cal" "$DEM/calibration/material.csv"
+  write_meta
+}
+
+# A thin layer (4 grains) set moving at 0.5 m/s on a deep bed of its own grains at rest
+# (dem/calibration/erodible.in): which thickness the thin-layer law reads (the flowing layer's,
+# or the grains' whole depth). The bed, 24 grains deep, stands at rest at 26 and 28 deg; at 30 deg
+# it flows by itself (the control).
+ERODIBLE_ANGLES=(26 28 30)
+stage_erodible() {
+  local th c="$DEM/calibration"
+  mkdir -p "$SCRATCH/erodible"
+  for th in "${ERODIBLE_ANGLES[@]}"; do
+    throttle
+    run_deck "erodible_theta$th" "$c" erodible.in -var theta "$th" -var out "$(rel "$SCRATCH/erodible" "$c")" &
+  done
+}
+
+stage_erodible_post() {
+  wait_ok
+  "$PY" "$DEM/tools/erodible.py" "$DEM/calibration/results" "$SCRATCH/erodible"
   write_meta
 }
 
@@ -296,8 +316,8 @@ write_meta() {
 }
 
 stages=("$@")
-((${#stages[@]})) || stages=(meshes pile shear slide chute bed blade bucket wheel_bed plate wheel chute_post post
-  wheel_post collapse collapse_post)
+((${#stages[@]})) || stages=(meshes pile shear slide chute erodible bed blade bucket wheel_bed plate wheel chute_post
+  erodible_post post wheel_post collapse collapse_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done

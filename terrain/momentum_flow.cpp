@@ -284,8 +284,9 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double cross = x ? cross_speed_at_x_face(i, j) : cross_speed_at_y_face(i, j);
     const double f = flowing_[donor] * kHeightQuantumM;
     // A layer with no static soil under it rubs on the hard base; on soil,
-    // the thin-layer law reads the grains' depth down to the hard base
-    // or compacted soil (thin_layer_whole_depth), or the flowing layer's.
+    // the thin-layer law reads the flowing layer's thickness (or, with
+    // thin_layer_whole_depth, the grains' down to the hard base or
+    // compacted soil).
     const double depth_m = thin_layer_whole_depth_ ? (grid.loose_quanta(donor) - rain_[donor]) * kHeightQuantumM : f;
     const double mu = on_floor(grid, donor, flowing_[donor]) ? floor_mu_ : bed_friction_tan(depth_m);
     const double speed = std::sqrt(un * un + cross * cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
