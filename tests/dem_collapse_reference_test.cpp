@@ -213,8 +213,8 @@ TEST(DemCollapse, ADroppedColumnSpreadsFartherWithMomentumThanAsARestingHeap) {
   EXPECT_TRUE(found);
 }
 
-// Which thickness the thin-layer law reads: a layer 4 grains thick set
-// moving at 0.5 m/s on a bed 24 grains deep of its own grains at rest
+// Which thickness the thin-layer law reads: the top 4 grains of a bed 24
+// grains deep of the same grains at rest, set moving at 0.5 m/s
 // (dem/calibration/erodible.in, a calibration run apart from the columns)
 // slows at the friction of its own thickness and stops, the bed under it
 // at rest, at 26 and 28 deg (at 30 deg the bed flows by itself, the
@@ -241,11 +241,12 @@ TEST(DemErodibleBed, AThinLayerOnADeepBedFeelsItsOwnThickness) {
     if (f[8] != "stopped") continue;
     ++stopped;
     const double theta_deg = std::stod(f[2]), mu_dem = std::stod(f[5]);
-    const double top_m = std::stod(f[1]) * grain_m, whole_m = (std::stod(f[0]) + std::stod(f[1])) * grain_m;
+    // The top grains are the bed's own top: its whole depth is `layers`.
+    const double top_m = std::stod(f[1]) * grain_m, whole_m = std::stod(f[0]) * grain_m;
     const double tan_theta = std::tan(deg_to_rad(theta_deg));
     std::printf("[ measured ] %g deg: the DEM's thin layer slowed at mu %.3f; the law at its own %.0f grains %.3f, at the "
                 "whole %.0f grains %.3f\n", theta_deg, mu_dem, std::stod(f[1]), flow.bed_friction_tan(top_m),
-                std::stod(f[0]) + std::stod(f[1]), flow.bed_friction_tan(whole_m));
+                std::stod(f[0]), flow.bed_friction_tan(whole_m));
     EXPECT_NEAR(flow.bed_friction_tan(top_m) / mu_dem, 1.0, 0.10) << theta_deg;
     EXPECT_GT(flow.bed_friction_tan(top_m), tan_theta) << theta_deg << " deg: the layer stops";
     EXPECT_LT(flow.bed_friction_tan(whole_m), tan_theta) << theta_deg << " deg: read on the whole depth it would run on";

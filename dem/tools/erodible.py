@@ -40,7 +40,9 @@ def summarise(meta, rows, t_kick_s):
     theta = float(meta["theta_deg"])
     before = [r for r in rows if t_kick_s - 0.5 <= r[0] < t_kick_s]
     after = [r for r in rows if r[0] >= t_kick_s]
-    rest = max(abs(r[2]) for r in before)
+    if not after:
+        sys.exit("erodible: no samples after the kick at %g s (did the run stop early?)" % t_kick_s)
+    rest = max((abs(r[2]) for r in before), default=float("nan"))
     end = after[-1]
     stopped = abs(end[1]) < STOPPED_M_S and abs(end[2]) < STOPPED_M_S
     # the slowing phase: from the top's fastest sample after the kick on
