@@ -26,14 +26,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <vector>
 
 #include "common/physical_constants.h"
 #include "io/soil_table.h"
 #include "report/dem_columns.h"
+#include "report/perf_report_parts.h"
 #include "terrain/granular_grid.h"
 #include "terrain/momentum_flow.h"
 
@@ -223,30 +221,27 @@ TEST(DemCollapse, ADroppedColumnSpreadsFartherWithMomentumThanAsARestingHeap) {
 // (thin_layer_whole_depth) it would run on.
 TEST(DemErodibleBed, AThinLayerOnADeepBedFeelsItsOwnThickness) {
   const Reference& s = reference();
-  std::ifstream in(fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/erodible_summary.csv");
-  ASSERT_TRUE(in) << "dem/calibration/results/erodible_summary.csv";
+  const fs::path path = fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/erodible_summary.csv";
+  const CsvNumbers dem = read_csv_numbers(path);
+  const std::size_t layers = dem.column("layers", path), top = dem.column("top_layers", path),
+                    theta = dem.column("theta_deg", path), mu_top = dem.column("mu_top", path),
+                    stops = dem.column("stopped", path);
   terrain::GridSpec spec;
   spec.nx = spec.ny = 4;
   const terrain::GranularGrid grid(spec, s.sand.flow, 0.002);
   const terrain::MomentumFlow flow(grid, terrain::MomentumFlowParameters{}, 0.002);
   const double grain_m = s.sand.flow.grain_diameter_m;
-  std::string line;
-  std::getline(in, line);  // layers,top_layers,theta_deg,v0_m_s,rest_speed_m_s,mu_top,top_travel_m,bed_peak_m_s,outcome
   int stopped = 0;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::vector<std::string> f;
-    for (std::string cell; std::getline(row, cell, ',');) f.push_back(cell);
-    ASSERT_EQ(f.size(), 9u) << line;
-    if (f[8] != "stopped") continue;
+  for (const std::vector<double>& row : dem.rows) {
+    if (row[stops] != 1.0) continue;
     ++stopped;
-    const double theta_deg = std::stod(f[2]), mu_dem = std::stod(f[5]);
+    const double theta_deg = row[theta], mu_dem = row[mu_top];
     // The top grains are the bed's own top: its whole depth is `layers`.
-    const double top_m = std::stod(f[1]) * grain_m, whole_m = std::stod(f[0]) * grain_m;
+    const double top_m = row[top] * grain_m, whole_m = row[layers] * grain_m;
     const double tan_theta = std::tan(deg_to_rad(theta_deg));
     std::printf("[ measured ] %g deg: the DEM's thin layer slowed at mu %.3f; the law at its own %.0f grains %.3f, at the "
-                "whole %.0f grains %.3f\n", theta_deg, mu_dem, std::stod(f[1]), flow.bed_friction_tan(top_m),
-                std::stod(f[0]), flow.bed_friction_tan(whole_m));
+                "whole %.0f grains %.3f\n", theta_deg, mu_dem, row[top], flow.bed_friction_tan(top_m), row[layers],
+                flow.bed_friction_tan(whole_m));
     EXPECT_NEAR(flow.bed_friction_tan(top_m) / mu_dem, 1.0, 0.10) << theta_deg;
     EXPECT_GT(flow.bed_friction_tan(top_m), tan_theta) << theta_deg << " deg: the layer stops";
     EXPECT_LT(flow.bed_friction_tan(whole_m), tan_theta) << theta_deg << " deg: read on the whole depth it would run on";

@@ -15,8 +15,10 @@ Writes OUT_DIR/erodible_summary.csv, one row an angle:
     mu = tan(theta) - (du/dt) / (g cos theta);
   - top_travel_m: how far the top layer went after the kick;
   - bed_peak_m_s: the bed's fastest mean speed after the kick;
-  - outcome: "stopped" (the top slower than 0.01 m/s at the end, the bed
-    too) or "ran_on".
+  - bed_flowing: 1 where the bed flowed by itself before the kick (faster
+    than 0.05 m/s: the run says nothing), else 0;
+  - stopped: 1 where the top and the bed end slower than 0.01 m/s, else 0
+    (numbers only, so that skidsim's CSV reader takes the file).
 """
 import glob
 import math
@@ -53,11 +55,12 @@ def summarise(meta, rows, t_kick_s):
         dudt, _ = line_fit(slowing)
         mu = math.tan(math.radians(theta)) - dudt / (G * math.cos(math.radians(theta)))
     travel = sum(0.5 * (a[1] + b[1]) * (b[0] - a[0]) for a, b in zip(after, after[1:]))
-    outcome = "bed_flowing" if rest > 5 * STOPPED_M_S else ("stopped" if stopped else "ran_on")
+    bed_flowing = rest > 5 * STOPPED_M_S
     return {
         "layers": meta["layers"], "top_layers": meta["top_layers"], "theta_deg": meta["theta_deg"],
         "v0_m_s": meta["v0_m_s"], "rest_speed_m_s": "%.4f" % rest, "mu_top": "%.4f" % mu,
-        "top_travel_m": "%.4f" % travel, "bed_peak_m_s": "%.4f" % max(r[2] for r in after), "outcome": outcome,
+        "top_travel_m": "%.4f" % travel, "bed_peak_m_s": "%.4f" % max(r[2] for r in after),
+        "bed_flowing": "1" if bed_flowing else "0", "stopped": "1" if stopped and not bed_flowing else "0",
     }
 
 
@@ -71,13 +74,15 @@ def main():
         rows_out.append(summarise(meta, rows, float(meta.get("rest_s", "1.0"))))
     rows_out.sort(key=lambda r: float(r["theta_deg"]))
     keys = ["layers", "top_layers", "theta_deg", "v0_m_s", "rest_speed_m_s", "mu_top", "top_travel_m", "bed_peak_m_s",
-            "outcome"]
+            "bed_flowing", "stopped"]
     with open(os.path.join(out_dir, "erodible_summary.csv"), "w") as f:
         f.write(",".join(keys) + "\n")
         for r in rows_out:
             f.write(",".join(r[k] for k in keys) + "\n")
+            outcome = "the bed flowed by itself" if r["bed_flowing"] == "1" else (
+                "stopped" if r["stopped"] == "1" else "ran on")
             print("erodible: theta %s deg: %s, mu_top %s, travel %s m, bed peak %s m/s" % (
-                r["theta_deg"], r["outcome"], r["mu_top"], r["top_travel_m"], r["bed_peak_m_s"]))
+                r["theta_deg"], outcome, r["mu_top"], r["top_travel_m"], r["bed_peak_m_s"]))
 
 
 if __name__ == "__main__":
