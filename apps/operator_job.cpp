@@ -36,16 +36,21 @@ int run_operator(const OperatorJob& job) {
     lcm::LCM* lcm;
     std::string channel;
     std::int64_t seq = 0, last_step = -1;
+    skidsim_lcm::control_t answer{};  // the answer to last_step's state
     void on_state(const lcm::ReceiveBuffer*, const std::string&, const skidsim_lcm::state_t* s) {
-      if (s->step <= last_step) return;  // a state sent again while the simulator waits
-      last_step = s->step;
-      const vehicle::LoaderControls c = player->step(*s);
-      skidsim_lcm::control_t m = to_message(c, ++seq, s->step);
-      m.sender_id = sender_id;
-      m.sender_time_us =
+      if (s->step < last_step) return;  // an old state, late
+      // The state sent again while a lockstep simulator waits: the answer may
+      // have been lost, so the same answer goes again (the same seq: the
+      // simulator takes it once). The script steps once per state.
+      if (s->step > last_step) {
+        last_step = s->step;
+        answer = to_message(player->step(*s), ++seq, s->step);
+        answer.sender_id = sender_id;
+      }
+      answer.sender_time_us =
           std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
               .count();
-      lcm->publish(channel, &m);
+      lcm->publish(channel, &answer);
     }
     std::int64_t sender_id = 0;
   } handler{&player, &lcm, channels.control};

@@ -61,7 +61,14 @@ namespace {
 
 using nlohmann::json;
 
-constexpr int kMissedTicksToEnd = 25;   // lockstep: this many ticks in a row without a command ends the session
+// Lockstep: how long a tick waits for the operator's answer before the
+// operator counts as gone and the session ends (operator_gone), and how
+// often the state is sent again meanwhile (a datagram lost either way is
+// asked for again; the operator answers a repeated state with its answer).
+// A tick never goes on without its answer: that is what makes a lockstep
+// session the same bit for bit however slow the operator or busy the host.
+constexpr auto kLockstepAnswerWait = std::chrono::milliseconds(5000);
+constexpr auto kLockstepResend = std::chrono::milliseconds(100);
 
 // Writes one message to the LCM log (readable by lcm-logplayer).
 template <class Message>
@@ -159,39 +166,36 @@ class SessionRecording {
 
 // The operator over LCM: the newest valid command (realtime), or the one
 // stamped for this tick (lockstep: the operator gets this tick's state first
-// and the session waits for its answer, up to the watchdog's time; the first
-// one, while the operator starts, up to 5 s, the state sent again every
-// 100 ms).
+// and the session waits for its answer, kLockstepAnswerWait at most, sending
+// the state again every kLockstepResend; the watchdog plays no part, as
+// simulated time stands still while it waits).
 class LcmOperator {
  public:
-  LcmOperator(io::ControlInput& input, io::LcmBridge& bridge, bool lockstep, double watchdog_s)
-      : input_(input), bridge_(bridge), lockstep_(lockstep), watchdog_s_(watchdog_s) {}
+  LcmOperator(io::ControlInput& input, io::LcmBridge& bridge, bool lockstep)
+      : input_(input), bridge_(bridge), lockstep_(lockstep) {}
   TickDecision decide(const skidsim_lcm::state_t& state, long step, double t) {
     TickDecision d;
     if (lockstep_) {
       input_.await_step(step);
       bridge_.publish_state(state);
-      const bool first = step == 0;
       const auto start = std::chrono::steady_clock::now();
-      const auto deadline = start + (first ? std::chrono::milliseconds(5000)
-                                           : std::chrono::milliseconds(static_cast<int>(1000.0 * watchdog_s_)));
-      auto resend = start + std::chrono::milliseconds(100);
-      while (input_.last_sim_step() != step && std::chrono::steady_clock::now() < deadline) {
+      auto resend = start + kLockstepResend;
+      while (input_.last_sim_step() != step && std::chrono::steady_clock::now() < start + kLockstepAnswerWait &&
+             jobs::interrupting_signal() == 0) {
         bridge_.wait(5, t);
-        if (first && std::chrono::steady_clock::now() > resend) {
+        if (std::chrono::steady_clock::now() > resend) {
           bridge_.publish_state(state);
-          resend += std::chrono::milliseconds(100);
+          resend += kLockstepResend;
         }
       }
-      if (input_.last_sim_step() != step) {
+      if (jobs::interrupting_signal() != 0) {
+        d.end_now = "interrupted";
+      } else if (input_.last_sim_step() != step) {
+        // The operator has gone (or finished): a lockstep session cannot go on.
         ++missed_ticks_;
-        ++missed_in_a_row_;
-      } else {
-        missed_in_a_row_ = 0;
+        d.end_now = "operator_gone";
       }
       d.controls = input_.controls(t);
-      // The operator has gone (or finished): a lockstep session cannot go on.
-      if (missed_in_a_row_ >= kMissedTicksToEnd) d.end_now = "operator_gone";
     } else {
       bridge_.poll(t);
       d.controls = input_.controls(t);
@@ -206,8 +210,7 @@ class LcmOperator {
   io::ControlInput& input_;
   io::LcmBridge& bridge_;
   bool lockstep_;
-  double watchdog_s_;
-  long missed_ticks_ = 0, missed_in_a_row_ = 0;
+  long missed_ticks_ = 0;
   std::int64_t watchdog_trips_seen_ = 0;
 };
 
@@ -295,7 +298,7 @@ int run_session(const RunJob& job) {
 
   // Each tick's controls: a replay's, the script's, or the operator's over LCM.
   std::unique_ptr<LcmOperator> live;
-  if (!player && !replaying) live = std::make_unique<LcmOperator>(input, *bridge, mode == "lockstep", ex.operator_source.watchdog_s);
+  if (!player && !replaying) live = std::make_unique<LcmOperator>(input, *bridge, mode == "lockstep");
   const DecideControls decide = [&](const skidsim_lcm::state_t& state, long step, double t) {
     TickDecision d;
     if (jobs::interrupting_signal() != 0) {
