@@ -146,17 +146,22 @@ stage_chute_post() {
   write_meta
 }
 
-# A thin layer (4 grains) set moving at 0.5 m/s on a deep bed of its own grains at rest
-# (dem/calibration/erodible.in): which thickness the thin-layer law reads (the flowing layer's,
-# or the grains' whole depth). The bed, 24 grains deep, stands at rest at 26 and 28 deg; at 30 deg
-# it flows by itself (the control).
-ERODIBLE_ANGLES=(26 28 30)
+# A layer set moving on a deep bed of its own grains at rest (dem/calibration/erodible.in):
+# which thickness the thin-layer law reads (the flowing layer's, or the grains' whole depth),
+# and whether the bed, steeper than the thick layer's stop angle, is carried away under it.
+# 4 grains at 0.5 m/s at 26, 28, 29 and 30 deg (at 29 and 30 deg the bed, 24 grains deep, flows
+# by itself: its start angle, and the control); 8 grains at 1 m/s at 26 and 28 deg and 12 grains
+# at 1.5 m/s at 26 deg, 4 s on.
+ERODIBLE_RUNS=("4 0.5 26 2.0" "4 0.5 28 2.0" "4 0.5 29 2.0" "4 0.5 30 2.0" "8 1.0 26 4.0" "8 1.0 28 4.0"
+  "12 1.5 26 4.0")
 stage_erodible() {
-  local th c="$DEM/calibration"
+  local run top v0 th trun c="$DEM/calibration"
   mkdir -p "$SCRATCH/erodible"
-  for th in "${ERODIBLE_ANGLES[@]}"; do
+  for run in "${ERODIBLE_RUNS[@]}"; do
+    read -r top v0 th trun <<< "$run"
     throttle
-    run_deck "erodible_theta$th" "$c" erodible.in -var theta "$th" -var out "$(rel "$SCRATCH/erodible" "$c")" &
+    run_deck "erodible_top${top}_theta$th" "$c" erodible.in -var top "$top" -var v0 "$v0" -var theta "$th" \
+      -var trun "$trun" -var out "$(rel "$SCRATCH/erodible" "$c")" &
   done
 }
 

@@ -15,6 +15,9 @@ Writes OUT_DIR/erodible_summary.csv, one row an angle:
     mu = tan(theta) - (du/dt) / (g cos theta);
   - top_travel_m: how far the top layer went after the kick;
   - bed_peak_m_s: the bed's fastest mean speed after the kick;
+  - bed_travel_m: how far the bed's grains went after the kick, on the
+    mean (sheared along under the layer, not carried away: the erosion
+    question, docs/fast_flows.md);
   - bed_flowing: 1 where the bed flowed by itself before the kick (faster
     than 0.05 m/s: the run says nothing), else 0;
   - stopped: 1 where the top and the bed end slower than 0.01 m/s, else 0
@@ -54,12 +57,14 @@ def summarise(meta, rows, t_kick_s):
     if len(slowing) >= 3:
         dudt, _ = line_fit(slowing)
         mu = math.tan(math.radians(theta)) - dudt / (G * math.cos(math.radians(theta)))
-    travel = sum(0.5 * (a[1] + b[1]) * (b[0] - a[0]) for a, b in zip(after, after[1:]))
+    def travel(k):
+        return sum(0.5 * (a[k] + b[k]) * (b[0] - a[0]) for a, b in zip(after, after[1:]))
     bed_flowing = rest > 5 * STOPPED_M_S
     return {
         "layers": meta["layers"], "top_layers": meta["top_layers"], "theta_deg": meta["theta_deg"],
         "v0_m_s": meta["v0_m_s"], "rest_speed_m_s": "%.4f" % rest, "mu_top": "%.4f" % mu,
-        "top_travel_m": "%.4f" % travel, "bed_peak_m_s": "%.4f" % max(r[2] for r in after),
+        "top_travel_m": "%.4f" % travel(1), "bed_peak_m_s": "%.4f" % max(r[2] for r in after),
+        "bed_travel_m": "%.4f" % travel(2),
         "bed_flowing": "1" if bed_flowing else "0", "stopped": "1" if stopped and not bed_flowing else "0",
     }
 
@@ -72,17 +77,18 @@ def main():
         meta = read_quantities(meta_path)
         rows = series(os.path.join(scratch, "erodible_%s.txt" % tag))
         rows_out.append(summarise(meta, rows, float(meta.get("rest_s", "1.0"))))
-    rows_out.sort(key=lambda r: float(r["theta_deg"]))
+    rows_out.sort(key=lambda r: (float(r["top_layers"]), float(r["theta_deg"])))
     keys = ["layers", "top_layers", "theta_deg", "v0_m_s", "rest_speed_m_s", "mu_top", "top_travel_m", "bed_peak_m_s",
-            "bed_flowing", "stopped"]
+            "bed_travel_m", "bed_flowing", "stopped"]
     with open(os.path.join(out_dir, "erodible_summary.csv"), "w") as f:
         f.write(",".join(keys) + "\n")
         for r in rows_out:
             f.write(",".join(r[k] for k in keys) + "\n")
             outcome = "the bed flowed by itself" if r["bed_flowing"] == "1" else (
                 "stopped" if r["stopped"] == "1" else "ran on")
-            print("erodible: theta %s deg: %s, mu_top %s, travel %s m, bed peak %s m/s" % (
-                r["theta_deg"], outcome, r["mu_top"], r["top_travel_m"], r["bed_peak_m_s"]))
+            print("erodible: %s grains at %s m/s, theta %s deg: %s, mu_top %s, travel %s m, bed peak %s m/s, bed travel %s m"
+                  % (r["top_layers"], r["v0_m_s"], r["theta_deg"], outcome, r["mu_top"], r["top_travel_m"],
+                     r["bed_peak_m_s"], r["bed_travel_m"]))
 
 
 if __name__ == "__main__":

@@ -3,12 +3,18 @@
 
 Usage: material_csv.py CALIBRATION_RESULTS_DIR OUT.csv
 Reads repose.csv, shear_box.csv (Mohr-Coulomb comment lines), sliding_plate.csv
-(mean line), chute_summary.csv, chute_thickness.csv and bed.csv from the results folder.
+(mean line), chute_summary.csv, chute_thickness.csv, bed.csv and, where present,
+erodible_summary.csv from the results folder.
 
 From the inclined layers (chute_summary.csv): a flowing layer's friction on
 the grains (the thickest layer run: the limit a thick flow reaches, what a
 metre-scale model holds), on the collapsing columns' floor (likewise), and
 the slot's side walls on a flowing layer (the mean over the walled runs).
+
+From the erodible bed (erodible_summary.csv): the bed's start angle, midway
+between the steepest angle at which the bed, 24 grains deep, held at rest
+under every layer set moving on it and the gentlest at which it flowed by
+itself before the kick.
 """
 import math
 import os
@@ -49,6 +55,18 @@ def main():
     walls = [float(r["wall_mu"]) for r in chute if float(r["side_wall_gap_m"]) > 0.0]
     law = kv(os.path.join(d, "chute_thickness.csv"))
     wall_deg = math.degrees(math.atan(sum(walls) / len(walls)))
+    rows_erodible = []
+    erodible_path = os.path.join(d, "erodible_summary.csv")
+    if os.path.exists(erodible_path):
+        lines = [l.strip().split(",") for l in open(erodible_path) if l.strip()]
+        runs = [dict(zip(lines[0], r)) for r in lines[1:]]
+        flowed = [float(r["theta_deg"]) for r in runs if r["bed_flowing"] == "1"]
+        held_all = sorted({float(r["theta_deg"]) for r in runs
+                           if all(q["stopped"] == "1" for q in runs if q["theta_deg"] == r["theta_deg"])})
+        if flowed and held_all and max(held_all) < min(flowed):
+            rows_erodible.append(("bed_start_angle_deg", 0.5 * (max(held_all) + min(flowed)), "deg",
+                                  "calibration/erodible.in (held at %g deg under every layer, flowed by itself at %g)"
+                                  % (max(held_all), min(flowed))))
     rows = [
         ("repose_angle_deg", float(rep["repose_angle_deg"]), "deg", "calibration/pile.in"),
         ("friction_angle_deg", float(pk.group(1)), "deg", "calibration/shear_box.in (peak, 2-10 kPa)"),
@@ -70,7 +88,7 @@ def main():
         ("bulk_density_kg_m3", float(bed["bulk_density_kg_m3"]), "kg/m3", "blade/bed.in (core of the settled bed)"),
         ("particle_diameter_m", 0.008, "m", "material.in (3 classes 7.2/8.0/8.8 mm, equal mass)"),
         ("particle_density_kg_m3", 2650.0, "kg/m3", "material.in"),
-    ]
+    ] + rows_erodible
     with open(out, "w") as f:
         f.write("quantity,value,unit,source_deck\n")
         for q, v, u, s in rows:
