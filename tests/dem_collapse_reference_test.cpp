@@ -211,14 +211,16 @@ TEST(DemCollapse, ADroppedColumnSpreadsFartherWithMomentumThanAsARestingHeap) {
   EXPECT_TRUE(found);
 }
 
-// Which thickness the thin-layer law reads: the top 4 grains of a bed 24
-// grains deep of the same grains at rest, set moving at 0.5 m/s
-// (dem/calibration/erodible.in, a calibration run apart from the columns)
-// slows at the friction of its own thickness and stops, the bed under it
-// at rest, at 26 and 28 deg (at 30 deg the bed flows by itself, the
-// control). The law read on the flowing layer (the default) gives it its
-// friction within 10 % and stops it; read on the grains' whole depth
-// (thin_layer_whole_depth) it would run on.
+// Which thickness the thin-layer law reads: the top 4, 8 or 12 grains of a
+// bed 24 grains deep of the same grains at rest, set moving at 0.5, 1 or
+// 1.5 m/s (dem/calibration/erodible.in, a calibration run apart from the
+// columns), slow at the friction of their own thickness and stop, at 26 and
+// 28 deg (at 29 and 30 deg the bed flows by itself). The law read on
+// the flowing layer (the default) gives that friction within 11 % and stops
+// them; read on the grains' whole depth (thin_layer_whole_depth) it would
+// run them on. The law, fit on the chute's frozen base, reads 3-10 % under
+// the DEM's layers on their own bed, whose top grains, sheared along, take
+// some of the layer's momentum.
 TEST(DemErodibleBed, AThinLayerOnADeepBedFeelsItsOwnThickness) {
   const Reference& s = reference();
   const fs::path path = fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/erodible_summary.csv";
@@ -239,14 +241,14 @@ TEST(DemErodibleBed, AThinLayerOnADeepBedFeelsItsOwnThickness) {
     // The top grains are the bed's own top: its whole depth is `layers`.
     const double top_m = row[top] * grain_m, whole_m = row[layers] * grain_m;
     const double tan_theta = std::tan(deg_to_rad(theta_deg));
-    std::printf("[ measured ] %g deg: the DEM's thin layer slowed at mu %.3f; the law at its own %.0f grains %.3f, at the "
-                "whole %.0f grains %.3f\n", theta_deg, mu_dem, row[top], flow.bed_friction_tan(top_m), row[layers],
+    std::printf("[ measured ] %g deg: the DEM's layer of %.0f grains slowed at mu %.3f; the law at its own thickness %.3f, "
+                "at the whole %.0f grains %.3f\n", theta_deg, row[top], mu_dem, flow.bed_friction_tan(top_m), row[layers],
                 flow.bed_friction_tan(whole_m));
-    EXPECT_NEAR(flow.bed_friction_tan(top_m) / mu_dem, 1.0, 0.10) << theta_deg;
-    EXPECT_GT(flow.bed_friction_tan(top_m), tan_theta) << theta_deg << " deg: the layer stops";
+    EXPECT_NEAR(flow.bed_friction_tan(top_m) / mu_dem, 1.0, 0.11) << theta_deg << " deg, " << row[top] << " grains";
+    EXPECT_GT(flow.bed_friction_tan(top_m), tan_theta) << theta_deg << " deg, " << row[top] << " grains: the layer stops";
     EXPECT_LT(flow.bed_friction_tan(whole_m), tan_theta) << theta_deg << " deg: read on the whole depth it would run on";
   }
-  EXPECT_EQ(stopped, 2);
+  EXPECT_EQ(stopped, 5) << "every run but those whose bed flowed by itself";
 }
 
 }  // namespace
