@@ -145,8 +145,9 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "layers a few grains thick as Pouliquen's law has it, with the grains (and h_stop) scaled with r0; on the "
       "bare floor at the floor's, " + fmt("%.2f", dem.front().floor_friction_deg) + " deg; in the slot, also on its side walls at " +
       fmt("%.1f", dem.front().slot_wall_friction_deg) + " deg; all from the DEM's inclined layers, "
-      "dem/calibration/chute.in) until friction stops it, eroding the bed it passes over down to the thick "
-      "layer's flowing friction; it runs beside the automaton, which keeps the slow avalanches. \"momentum, hydrostatic\" is the same "
+      "dem/calibration/chute.in) until friction stops it, eroding, down to the thick layer's flowing friction, what "
+      "the avalanche laid down and the bed it found where that bed stands past its start angle (" +
+      fmt("%.1f", sand.bed_start_angle_deg) + " deg, the DEM's erodible bed); it runs beside the automaton, which keeps the slow avalanches. \"momentum, hydrostatic\" is the same "
       "without raining: the failed mass flows at once. The dropped column (a = 1 let go 4 r0 above the floor, as a "
       "bucket's load dumped from 2 m) falls as parcels (terrain/material_exchange.h) that land with their momentum; "
       "its impact scatters single grains far out in the DEM, which no height field holds, so its run-out is the "

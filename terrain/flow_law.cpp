@@ -47,6 +47,9 @@ void validate(const SoilFlowParameters& soil) {
     bad_field(soil, "flowing_friction_angle_deg", soil.flowing_friction_angle_deg, "in [0, repose_angle_deg]");
   if (!(soil.grain_diameter_m >= 0.0 && soil.grain_diameter_m <= 1.0))
     bad_field(soil, "grain_diameter_m", soil.grain_diameter_m, "in [0, 1]");
+  if (soil.bed_start_angle_deg != 0.0 &&
+      !(soil.bed_start_angle_deg >= soil.flowing_friction_deg() && soil.bed_start_angle_deg <= soil.repose_angle_deg))
+    bad_field(soil, "bed_start_angle_deg", soil.bed_start_angle_deg, "0 or in [flowing friction, repose_angle_deg]");
   if (soil.grain_diameter_m > 0.0 || soil.thin_layer_friction_angle_deg != 0.0 || soil.thin_layer_decay_grains != 0.0) {
     if (!(soil.thin_layer_friction_angle_deg >= soil.flowing_friction_deg() && soil.thin_layer_friction_angle_deg < 89.0))
       bad_field(soil, "thin_layer_friction_angle_deg", soil.thin_layer_friction_angle_deg, "in [flowing friction, 89)");

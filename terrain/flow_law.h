@@ -59,6 +59,12 @@ struct SoilFlowParameters {
   double grain_diameter_m = 0.0;
   double thin_layer_friction_angle_deg = 0.0;
   double thin_layer_decay_grains = 0.0;
+  // The angle at which a deep bed of the soil at rest starts to flow by
+  // itself (Pouliquen's theta_start for a thick layer; Daerr and Douady
+  // 1999): a moving layer carries away only what a flow laid down, or a bed
+  // steeper than this (terrain/momentum_flow.h). 0: none, every bed under a
+  // moving layer erodes down to the flowing friction.
+  double bed_start_angle_deg = 0.0;
 };
 
 // Throws std::invalid_argument naming the offending field when a value is out

@@ -3,6 +3,7 @@
 #include "terrain/momentum_flow_cells.h"
 
 #include <algorithm>
+#include <limits>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -63,6 +64,10 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
     wall_mu_over_gap_ = tan_deg(params.side_wall_friction_deg) / params.side_wall_gap_m;
   }
   mu_start_ = tan_deg(start_deg);
+  const double bed_start_deg = params.bed_start_deg > 0.0 ? params.bed_start_deg : soil.bed_start_angle_deg;
+  if (!(bed_start_deg == 0.0 || (bed_start_deg >= bed_deg && bed_start_deg < 89.0)))
+    throw std::invalid_argument("momentum flow: bed_start_deg must be 0 or in [bed friction, 89) deg");
+  bed_start_tan_ = bed_start_deg > 0.0 ? tan_deg(bed_start_deg) : 0.0;  // 0: every bed under a layer erodes
   if (params.earth_pressure > 0.0) {
     k_active_ = k_passive_ = params.earth_pressure;
   } else {
@@ -106,6 +111,8 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_.assign(n, 0);
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
+  event_bed_m_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  in_event_.reserve(n);  // a long event may reach every cell
 }
 
 std::array<int, 4> MomentumFlow::faces_of(int cell) const {
@@ -130,6 +137,7 @@ std::pair<int, int> MomentumFlow::sides_at(const GranularGrid& grid, int i, int 
 void MomentumFlow::reserve_cells(std::size_t cells) {
   cells = std::min(cells, flowing_.size());
   candidates_.reserve(cells), moving_.reserve(cells), rise_.reserve(cells), layer_.reserve(cells), keep_.reserve(cells);
+  bed_floor_m_.reserve(cells);
   x_faces_.reserve(2 * cells), y_faces_.reserve(2 * cells), new_x_.reserve(2 * cells), new_y_.reserve(2 * cells);
   new_flowing_.reserve(8 * cells);
 }
@@ -244,6 +252,12 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
   transport(grid, dt_s);
   carry_momentum(grid);
   settle(grid);
+  // The flow at rest: its event is over, and what it laid down is bed at
+  // rest like the rest.
+  if (moving_.empty()) {
+    for (int c : in_event_) event_bed_m_[c] = std::numeric_limits<double>::quiet_NaN();
+    in_event_.clear();
+  }
   for (int c : candidates_) listed_[c] = 0;
   for (int f : x_faces_) x_listed_[f] = 0, x_sent_[f] = 0;
   for (int f : y_faces_) y_listed_[f] = 0, y_sent_[f] = 0;

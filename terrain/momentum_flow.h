@@ -30,7 +30,11 @@
 // angles is metastable, and an avalanche passing over it carries it away
 // down to the angle at which a layer as deep as the bed stops (Daerr and
 // Douady 1999, "Two types of avalanche behaviour in granular media",
-// Nature 399). This is the fast limit of BCRE's exchange
+// Nature 399). With the soil's bed start angle (Pouliquen's theta_start of a
+// deep bed) the layer carries away what its event laid down, and the bed
+// the event found only where that bed, as the failure alone leaves it,
+// stands past the start angle: a deep bed at rest below it holds under a
+// passing layer (the DEM's erodible bed). This is the fast limit of BCRE's exchange
 // between rolling and static grains (Bouchaud et al. 1994), whose rate, the
 // flow's speed over a grain, is 10^2-10^4 per second: fast beside a
 // collapse's or a dump's second.
@@ -102,6 +106,14 @@ struct MomentumFlowParameters {
   // and Douady 1999); false: the core holds the repose angle under moving
   // layers too.
   bool erosion = true;
+  // The bed's start angle (deg): erosion carries away what this flow event
+  // laid down, and the bed it found only where that bed stands steeper than
+  // this (a deep bed at rest between the flowing friction and its start
+  // angle is metastable; the DEM's erodible bed, 24 grains deep, held at 28
+  // deg under layers of 4 to 12 grains and flowed by itself at 29,
+  // docs/fast_flows.md). 0: the soil's bed_start_angle_deg, and where it
+  // has none every bed under a moving layer erodes to the bed friction.
+  double bed_start_deg = 0.0;
   // The thickness the thin-layer law (Pouliquen 1999) reads. false (the
   // default): the flowing layer's. A thin layer set moving on a deep bed of
   // its own grains at rest slows at the friction of its own thickness and
@@ -189,6 +201,14 @@ class MomentumFlow {
   // cell across a face (the passes that change layers read it before they
   // write any: layer_).
   bool fed(const GranularGrid& grid, int cell) const;
+  // The cell's bed (m): its surface less its flowing layer and its rain.
+  double bed_m(const GranularGrid& grid, int cell) const;
+  // The bed the flow event found under the cell as the failure alone (no
+  // erosion) has left it; its bed now outside an event.
+  double found_bed_m(const GranularGrid& grid, int cell) const;
+  // Whether that bed stands steeper than the bed's start angle above a side
+  // neighbour's.
+  bool bed_past_start(const GranularGrid& grid, int cell) const;
   // Whether the cell's layer, `flowing` quanta, rubs on a floor of its own
   // (floor_friction_deg set, no static soil under the layer).
   bool on_floor(const GranularGrid& grid, int cell, std::int64_t flowing) const {
@@ -220,7 +240,7 @@ class MomentumFlow {
   int nx_ = 0, ny_ = 0;
   double step_dt_s_ = 0.0, d_ = 0.0;
   double thin_excess_ = 0.0, inv_decay_m_ = 0.0;  // tan theta_2 - tan theta_1, 1 / (A d)
-  double mu_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
+  double mu_ = 0.0, bed_start_tan_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0;
   bool raining_ = true, erosion_ = true, thin_layer_whole_depth_ = false;
@@ -236,6 +256,14 @@ class MomentumFlow {
   std::vector<std::int64_t> rain_;  // per cell: quanta falling freely onto its flowing layer
   std::vector<double> rain_speed_;  // their speed (m/s)
   std::vector<std::uint8_t> fell_;  // its rain has landed in this event
+  // Per cell, with a bed start angle: its bed's level (m) when this flow
+  // event reached it, lowered where the failure alone (the start angle,
+  // not the erosion) lowers it (NaN: not in an event; an event ends when
+  // nothing moves). Erosion cuts below it only where it stands past the
+  // bed's start angle.
+  std::vector<double> event_bed_m_;
+  std::vector<int> in_event_;  // the cells holding a level
+  std::vector<double> bed_floor_m_;  // fail: how low erosion may cut a cell's core, by candidates_
   std::vector<double> core_;  // per cell: the stable core's surface (m), examined cells only
   std::vector<double> new_x_, new_y_;              // the listed faces' new velocities
   std::vector<std::int64_t> x_sent_, y_sent_;       // quanta across each face this sub-step (signed along +x, +y)

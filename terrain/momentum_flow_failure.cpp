@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace skidsim::terrain {
 
@@ -58,6 +59,24 @@ bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
   return false;
 }
 
+double MomentumFlow::bed_m(const GranularGrid& grid, int cell) const {
+  return grid.surface_at(cell) - static_cast<double>(flowing_[cell] + rain_[cell]) * kHeightQuantumM;
+}
+
+double MomentumFlow::found_bed_m(const GranularGrid& grid, int cell) const {
+  return std::isnan(event_bed_m_[cell]) ? bed_m(grid, cell) : event_bed_m_[cell];
+}
+
+bool MomentumFlow::bed_past_start(const GranularGrid& grid, int cell) const {
+  const int i = cell % nx_, j = cell / nx_;
+  const double here = found_bed_m(grid, cell), drop = bed_start_tan_ * d_;
+  for (int k = 0; k < 4; ++k) {
+    const int nb = neighbour(grid, i, j, k);
+    if (nb >= 0 && here - found_bed_m(grid, nb) > drop) return true;
+  }
+  return false;
+}
+
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose
@@ -67,8 +86,14 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // bed under the layer is deep, so it is stable only to the angle at which
   // a thick layer stops; the DEM's deposits lie at about theta_1; a bed
   // only a few grains deep is held to theta_1 too, an approximation,
-  // docs/fast_flows.md); everything above it fails at
-  // once and joins the flowing layer, the core stays. A column so keeps its
+  // docs/fast_flows.md); with a bed start angle, erosion takes what this
+  // flow event laid down, and the bed the event found only where that bed,
+  // as the failure alone leaves it, stands past the start angle (a deep bed
+  // at rest below it holds under a passing layer: the DEM's erodible bed;
+  // the failure alone, not the erosion's cuts, so that a notch cut into a
+  // bed below its start angle does not carry the bed above it away);
+  // everything above the core fails at once and joins the flowing layer,
+  // the core stays. A column so keeps its
   // top while a < tan(repose) (Lajeunesse et al. 2004 and Lube et al. 2004
   // measured 0.7-0.74) and a peak fails
   // towards every lower side. The core is a chamfer distance transform
@@ -78,36 +103,75 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // nothing changes (the walls and the erosion's varying rise can ask for
   // more than one pair).
   rise_.resize(candidates_.size());
+  bed_floor_m_.resize(candidates_.size());
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     core_[c] = grid.surface_at(c);
-    rise_[n] = d_ * (erosion_ && flowing_[c] > 0 ? mu_ : mu_start_);  // mu_ <= mu_start_ (constructor)
+    const double bed = bed_m(grid, c);
+    if (bed_start_tan_ > 0.0 && std::isnan(event_bed_m_[c])) {
+      event_bed_m_[c] = bed;
+      in_event_.push_back(c);
+    }
+    const bool erodes = erosion_ && flowing_[c] > 0;
+    rise_[n] = d_ * (erodes ? mu_ : mu_start_);  // mu_ <= mu_start_ (constructor)
+    // How low erosion may cut: anywhere without a start angle for the bed
+    // or where the bed stands past it; else down to the bed the event found
+    // (what the flow laid on it goes) or as low as it has been cut.
+    bed_floor_m_[n] = !erodes || bed_start_tan_ == 0.0 || bed_past_start(grid, c) ? -std::numeric_limits<double>::infinity()
+                                                                                  : std::min(bed, event_bed_m_[c]);
   }
+  const bool track = bed_start_tan_ > 0.0;
   // The neighbours before a cell in raster order as (di, dj); those after it are their opposites.
   constexpr int kBefore[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
   auto relax = [&](std::size_t n, int sign) {
     const int c = candidates_[n], i = c % nx_, j = c / nx_;
     const double rise = rise_[n], rise_diag = rise * std::sqrt(2.0);
-    double core = core_[c];
+    const double start = d_ * mu_start_, start_diag = start * std::sqrt(2.0);
+    // `core` under the cell's rise (the erosion's where a layer moves);
+    // with a bed start angle, `kept` under the start angle's and `found`,
+    // the bed the event found as the failure alone (no erosion) leaves it,
+    // under the start angle's over the neighbours' found beds.
+    double core = core_[c], kept = core_[c], found = track ? event_bed_m_[c] : 0.0;
     const auto level = [&](int nb) { return listed_[nb] ? core_[nb] : grid.surface_at(nb); };  // examined: its core
     if (i > 0 && j > 0 && i + 1 < nx_ && j + 1 < ny_) {
       // Inside the grid: the neighbours by offset.
       for (const auto& o : kBefore) {
         const int nb = c + sign * (o[0] + o[1] * nx_);
-        if (!grid.covered(nb)) core = std::min(core, level(nb) + (o[0] != 0 && o[1] != 0 ? rise_diag : rise));
+        if (grid.covered(nb)) continue;
+        const bool diag = o[0] != 0 && o[1] != 0;
+        core = std::min(core, level(nb) + (diag ? rise_diag : rise));
+        if (track) {
+          kept = std::min(kept, level(nb) + (diag ? start_diag : start));
+          found = std::min(found, found_bed_m(grid, nb) + (diag ? start_diag : start));
+        }
       }
     } else {
       for (const auto& o : kBefore) {
         const int di = sign * o[0], dj = sign * o[1], ni = i + di, nj = j + dj;
         const Edge edge = ni < 0 ? kEdgeXMin : ni >= nx_ ? kEdgeXMax : nj < 0 ? kEdgeYMin : kEdgeYMax;
         const int nb = cell_or_edge(grid, ni, nj, edge);
-        const double rise_to_it = di != 0 && dj != 0 ? rise_diag : rise;
-        if (nb >= 0) core = std::min(core, level(nb) + rise_to_it);
-        else if (nb == -1) core = std::min(core, grid.base_at(c) + rise_to_it);  // a drop-off: bare base at the cell's own level
+        const bool diag = di != 0 && dj != 0;
+        if (nb == -2) continue;  // closed
+        // A drop-off: bare base at the cell's own level.
+        const double to = nb >= 0 ? level(nb) : static_cast<double>(grid.base_at(c));
+        core = std::min(core, to + (diag ? rise_diag : rise));
+        if (track) {
+          kept = std::min(kept, to + (diag ? start_diag : start));
+          found = std::min(found, (nb >= 0 ? found_bed_m(grid, nb) : to) + (diag ? start_diag : start));
+        }
       }
     }
+    // Erosion cuts no lower than the bed's floor; the start angle holds
+    // everywhere (without a bed start angle there is no floor, and the
+    // erosion's core is already the lower).
+    if (track) core = std::min(kept, std::max(core, bed_floor_m_[n]));
     core = std::max(core, static_cast<double>(grid.base_at(c)));
-    const bool changed = core < core_[c];
+    bool changed = core < core_[c];
+    if (track) {
+      found = std::max(found, static_cast<double>(grid.base_at(c)));
+      changed = changed || found < event_bed_m_[c];
+      event_bed_m_[c] = found;
+    }
     core_[c] = core;
     return changed;
   };

@@ -251,5 +251,71 @@ TEST(DemErodibleBed, AThinLayerOnADeepBedFeelsItsOwnThickness) {
   EXPECT_EQ(stopped, 5) << "every run but those whose bed flowed by itself";
 }
 
+// The DEM's erodible bed in the model: a bed 24 grains deep (0.192 m of
+// dem_sand) on a base tilted to the DEM's angle, running onto a level bed,
+// with the DEM's layer (its top grains, at its speed) set moving on its top
+// 0.2 m, at 2 and 5 cm cells. Where the DEM's bed held (26 and 28 deg,
+// below its start angle, 28.5 deg), the model cuts none of it: the layer
+// carries away only what it laid down. Without the start angle every bed
+// under a moving layer erodes to the flowing friction (23.7 deg), and at 28
+// deg the model cut the bed the DEM kept.
+double model_bed_cut_m3(io::SoilRecord soil, double theta_deg, double top_grains, double v0_m_s, double cell_m) {
+  const double grain_m = soil.flow.grain_diameter_m, bed_m = 24 * grain_m, layer_m = top_grains * grain_m;
+  terrain::GridSpec spec;
+  spec.nx = static_cast<int>(std::lround(4.0 / cell_m));
+  spec.ny = 1;
+  spec.cell_size_m = cell_m;
+  terrain::GranularGrid g(spec, soil.flow, 0.002, 100000);
+  const int ramp = static_cast<int>(std::lround(2.4 / cell_m));
+  const double tan_theta = std::tan(deg_to_rad(theta_deg));
+  std::vector<double> before(static_cast<std::size_t>(spec.nx));
+  for (int i = 0; i < spec.nx; ++i) {
+    g.set_base_m(i, 0, std::max(0, ramp - i) * cell_m * tan_theta);
+    g.set_material_m(i, 0, bed_m);
+    before[static_cast<std::size_t>(i)] = g.material_m(i, 0);
+  }
+  terrain::MomentumFlow flow(g, terrain::MomentumFlowParameters{}, 0.002);
+  for (int i = 0; i * cell_m < 0.2; ++i) {
+    g.add_material_m3(i, 0, layer_m * cell_m * cell_m);
+    flow.land(g, g.index(i, 0), std::llround(layer_m / terrain::kHeightQuantumM), v0_m_s * std::cos(deg_to_rad(theta_deg)), 0.0);
+  }
+  for (int step = 0; step < 20000 && (step == 0 || flow.moving_cells() > 0); ++step) flow.step(g);
+  EXPECT_EQ(flow.moving_cells(), 0u);
+  double cut_m3 = 0.0;
+  for (int i = 0; i < spec.nx; ++i)
+    cut_m3 += std::max(0.0, before[static_cast<std::size_t>(i)] - g.material_m(i, 0)) * cell_m * cell_m;
+  return cut_m3;
+}
+
+TEST(DemErodibleBed, TheModelKeepsTheBedTheDemKept) {
+  const Reference& s = reference();
+  const fs::path path = fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/erodible_summary.csv";
+  const CsvNumbers dem = read_csv_numbers(path);
+  const std::size_t top = dem.column("top_layers", path), theta = dem.column("theta_deg", path),
+                    v0 = dem.column("v0_m_s", path), stops = dem.column("stopped", path),
+                    bed_travel = dem.column("bed_travel_m", path);
+  io::SoilRecord without = s.sand;
+  without.flow.bed_start_angle_deg = 0.0;
+  int held = 0;
+  for (const std::vector<double>& row : dem.rows) {
+    if (row[stops] != 1.0) continue;
+    ++held;
+    EXPECT_LT(row[theta], s.sand.flow.bed_start_angle_deg);
+    for (double cell : {0.05, 0.02}) {
+      const double layer_m3 = 0.2 * row[top] * s.sand.flow.grain_diameter_m * cell;  // the layer's volume on the strip
+      const double cut = model_bed_cut_m3(s.sand, row[theta], row[top], row[v0], cell);
+      const double cut_without = model_bed_cut_m3(without, row[theta], row[top], row[v0], cell);
+      std::printf("[ measured ] %g deg, %.0f grains at %g m/s, %.2f m cells: the DEM's bed sheared along (its grains' mean "
+                  "travel %.3f m) and held; the model cut %.5f m3 of it (%.5f m3 without the bed's start angle; the layer "
+                  "%.5f m3)\n", row[theta], row[top], row[v0], cell, row[bed_travel], cut, cut_without, layer_m3);
+      EXPECT_LT(cut, 0.01 * layer_m3) << row[theta] << " deg, " << row[top] << " grains, " << cell << " m";
+      if (row[theta] == 28.0 && row[top] == 8.0) {
+        EXPECT_GT(cut_without, layer_m3) << cell << " m";
+      }
+    }
+  }
+  EXPECT_EQ(held, 5);
+}
+
 }  // namespace
 }  // namespace skidsim::report::perf

@@ -82,6 +82,9 @@ TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
   flow = kFlow;  // a thin layer's friction below the thick one's
   flow.insert(flow.find("/>"), " grain_diameter_m=\"0.001\" thin_layer_friction_angle_deg=\"20\" thin_layer_decay_grains=\"5\"");
   expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "thin_layer_friction_angle_deg"});
+  flow = kFlow;  // a bed that starts to flow above the repose angle
+  flow.insert(flow.find("/>"), " bed_start_angle_deg=\"40\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "bed_start_angle_deg"});
   expect_error("<soils>\n<soil id=\"a\" colour=\"red\">\n" + std::string(kFlow) + kTm + "</soil>\n</soils>\n",
                {":2:", "unknown attribute 'colour'"});
   expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + kTm + "</soil>\n<soil id=\"a\">\n" + kFlow + kTm +

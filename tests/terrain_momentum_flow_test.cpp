@@ -344,6 +344,57 @@ TEST(MomentumFlow, AMovingLayerErodesTheMetastableBedDownToItsFlowingFriction) {
   EXPECT_GT(eroded_m3, 3.0 * kept_m3);
 }
 
+// The bed's start angle (Pouliquen's theta_start of a deep bed; the DEM's
+// erodible bed, tests/dem_collapse_reference_test.cpp): a 30 deg ramp on a
+// level bed (no cliff at its foot), with the layer of the test above run
+// down it. Past a start angle of 28.5 deg the ramp is carried away down to
+// the flowing friction, as without one; below a start angle of 32 deg it
+// keeps its slope and nothing of it is cut.
+struct RampAfterARun {
+  double steepest_deg = 0.0, cut_m3 = 0.0;
+};
+RampAfterARun ramp_on_a_level_bed_after_a_run(double bed_start_deg) {
+  const GridSpec spec = strip(100);
+  SoilFlowParameters soil = pile_angled_sand();
+  soil.flowing_friction_angle_deg = 24.0;
+  soil.bed_start_angle_deg = bed_start_deg;
+  GranularGrid g(spec, soil, 0.002, 100000);
+  const double tan30 = std::tan(30.0 * kPi / 180.0);
+  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, 0.1 + std::max(0, 29 - i) * spec.cell_size_m * tan30);
+  std::vector<double> before(static_cast<std::size_t>(spec.nx));
+  for (int i = 0; i < spec.nx; ++i) before[static_cast<std::size_t>(i)] = g.material_m(i, 0);
+  MomentumFlow flow(g, MomentumFlowParameters{}, 0.002);
+  for (int i = 0; i < 3; ++i) {
+    const std::int64_t q = std::llround(0.05 / kHeightQuantumM);
+    g.add_material_m3(i, 0, 0.05 * spec.cell_size_m * spec.cell_size_m);
+    flow.land(g, g.index(i, 0), q, 1.0, 0.0);
+  }
+  for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
+  EXPECT_EQ(flow.moving_cells(), 0u);
+  EXPECT_TRUE(g.ledger().balanced());
+  RampAfterARun r;
+  double steepest = 0.0;
+  for (int i = 0; i < 30; ++i) {
+    r.cut_m3 += std::max(0.0, before[static_cast<std::size_t>(i)] - g.material_m(i, 0)) * spec.cell_size_m * spec.cell_size_m;
+    if (i + 1 < 30) steepest = std::max(steepest, (g.material_m(i, 0) - g.material_m(i + 1, 0)) / spec.cell_size_m);
+  }
+  r.steepest_deg = std::atan(steepest) * 180.0 / kPi;
+  return r;
+}
+
+TEST(MomentumFlow, ALayerCarriesAwayABedOnlyPastTheBedsStartAngle) {
+  const RampAfterARun none = ramp_on_a_level_bed_after_a_run(0.0), past = ramp_on_a_level_bed_after_a_run(28.5),
+                      below = ramp_on_a_level_bed_after_a_run(32.0);
+  std::printf("[ measured ] ramp at 30 deg on a level bed after a run: without a start angle for the bed steepest %.1f deg, "
+              "%.4f m3 cut; past the start angle %.1f deg, %.4f m3; below it %.1f deg, %.4f m3\n",
+              none.steepest_deg, none.cut_m3, past.steepest_deg, past.cut_m3, below.steepest_deg, below.cut_m3);
+  EXPECT_LT(none.steepest_deg, 24.0 + 1.0);
+  EXPECT_LT(past.steepest_deg, 24.0 + 1.0);
+  EXPECT_GT(past.cut_m3, 0.5 * none.cut_m3);
+  EXPECT_GT(below.steepest_deg, 29.5);
+  EXPECT_LT(below.cut_m3, 0.01 * none.cut_m3);
+}
+
 TEST(MomentumFlow, ALowColumnKeepsItsTop) {
   const CollapseRun run = run_column_collapse(momentum_case(0.5, 0.1), SoilFlowParameters{});
   EXPECT_NEAR(run.final_height_over_r0, 0.5, 1e-12);
