@@ -211,6 +211,11 @@ TEST(DemCollapse, ADroppedColumnSpreadsFartherWithMomentumThanAsARestingHeap) {
   EXPECT_TRUE(found);
 }
 
+// The DEM's erodible bed runs (dem/calibration/erodible.in), one row a run.
+fs::path erodible_summary_path() {
+  return fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/erodible_summary.csv";
+}
+
 // Which thickness the thin-layer law reads: the top 4, 8 or 12 grains of a
 // bed 24 grains deep of the same grains at rest, set moving at 0.5, 1 or
 // 1.5 m/s (dem/calibration/erodible.in, a calibration run apart from the
@@ -223,7 +228,7 @@ TEST(DemCollapse, ADroppedColumnSpreadsFartherWithMomentumThanAsARestingHeap) {
 // some of the layer's momentum.
 TEST(DemErodibleBed, AThinLayerOnADeepBedFeelsItsOwnThickness) {
   const Reference& s = reference();
-  const fs::path path = fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/erodible_summary.csv";
+  const fs::path path = erodible_summary_path();
   const CsvNumbers dem = read_csv_numbers(path);
   const std::size_t layers = dem.column("layers", path), top = dem.column("top_layers", path),
                     theta = dem.column("theta_deg", path), mu_top = dem.column("mu_top", path),
@@ -289,7 +294,7 @@ double model_bed_cut_m3(io::SoilRecord soil, double theta_deg, double top_grains
 
 TEST(DemErodibleBed, TheModelKeepsTheBedTheDemKept) {
   const Reference& s = reference();
-  const fs::path path = fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/erodible_summary.csv";
+  const fs::path path = erodible_summary_path();
   const CsvNumbers dem = read_csv_numbers(path);
   const std::size_t top = dem.column("top_layers", path), theta = dem.column("theta_deg", path),
                     v0 = dem.column("v0_m_s", path), stops = dem.column("stopped", path),

@@ -294,6 +294,19 @@ TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheThicknessTheLawReads)
   }
 }
 
+// A layer 5 cm thick arriving on a strip's top three cells at 1 m/s
+// downslope, run until it stops, the books exact.
+void run_a_layer_down(GranularGrid& g, MomentumFlow& flow) {
+  const double cell_m = g.cell_size_m();
+  for (int i = 0; i < 3; ++i) {
+    g.add_material_m3(i, 0, 0.05 * cell_m * cell_m);
+    flow.land(g, g.index(i, 0), std::llround(0.05 / kHeightQuantumM), 1.0, 0.0);
+  }
+  for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
+  EXPECT_EQ(flow.moving_cells(), 0u);
+  EXPECT_TRUE(g.ledger().balanced());
+}
+
 // Erosion: a bed at rest at 30 deg, between the flowing friction (24 deg)
 // and the repose angle (34.6 deg), is metastable. A layer run down it from
 // the top carries the bed away down to the flowing friction, nowhere
@@ -315,15 +328,7 @@ double ramp_slope_after_a_run_deg(bool erosion, double* carried_off_m3) {
   MomentumFlowParameters p;
   p.erosion = erosion;
   MomentumFlow flow(g, p, 0.002);
-  // A layer 5 cm thick arriving on the top three cells at 1 m/s downslope.
-  for (int i = 0; i < 3; ++i) {
-    const std::int64_t q = std::llround(0.05 / kHeightQuantumM);
-    g.add_material_m3(i, 0, 0.05 * spec.cell_size_m * spec.cell_size_m);
-    flow.land(g, g.index(i, 0), q, 1.0, 0.0);
-  }
-  for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
-  EXPECT_EQ(flow.moving_cells(), 0u);
-  EXPECT_TRUE(g.ledger().balanced());
+  run_a_layer_down(g, flow);
   double after_m3 = 0.0;
   for (int i = 30; i < spec.nx; ++i) after_m3 += g.material_m(i, 0) * spec.cell_size_m * spec.cell_size_m;
   *carried_off_m3 = after_m3 - before_m3;
@@ -364,14 +369,7 @@ RampAfterARun ramp_on_a_level_bed_after_a_run(double bed_start_deg) {
   std::vector<double> before(static_cast<std::size_t>(spec.nx));
   for (int i = 0; i < spec.nx; ++i) before[static_cast<std::size_t>(i)] = g.material_m(i, 0);
   MomentumFlow flow(g, MomentumFlowParameters{}, 0.002);
-  for (int i = 0; i < 3; ++i) {
-    const std::int64_t q = std::llround(0.05 / kHeightQuantumM);
-    g.add_material_m3(i, 0, 0.05 * spec.cell_size_m * spec.cell_size_m);
-    flow.land(g, g.index(i, 0), q, 1.0, 0.0);
-  }
-  for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
-  EXPECT_EQ(flow.moving_cells(), 0u);
-  EXPECT_TRUE(g.ledger().balanced());
+  run_a_layer_down(g, flow);
   RampAfterARun r;
   double steepest = 0.0;
   for (int i = 0; i < 30; ++i) {
