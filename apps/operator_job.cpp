@@ -37,8 +37,13 @@ int run_operator(const OperatorJob& job) {
     std::string channel;
     std::int64_t seq = 0, last_step = -1;
     skidsim_lcm::control_t answer{};  // the answer to last_step's state
+    bool finished = false, moved_on = false;  // the script done; a state of a later tick since
     void on_state(const lcm::ReceiveBuffer*, const std::string&, const skidsim_lcm::state_t* s) {
       if (s->step < last_step) return;  // an old state, late
+      if (finished && s->step > last_step) {
+        moved_on = true;  // the last answer arrived
+        return;
+      }
       // The state sent again while a lockstep simulator waits: the answer may
       // have been lost, so the same answer goes again (the same seq: the
       // simulator takes it once). The script steps once per state.
@@ -67,6 +72,13 @@ int run_operator(const OperatorJob& job) {
       return 1;
     }
   }
+  // The script is done, but its last answer may yet be lost: a repeated state
+  // is answered until the simulator moves on to a later tick or falls silent.
+  handler.finished = true;
+  auto quiet_since = std::chrono::steady_clock::now();
+  while (!handler.moved_on &&
+         std::chrono::steady_clock::now() - quiet_since < std::chrono::duration<double>(job.idle_timeout_s))
+    if (lcm.handleTimeout(200) > 0) quiet_since = std::chrono::steady_clock::now();
   std::cout << "operator: script '" << job.script_path << "' finished after " << handler.seq << " commands\n";
   for (const std::string& t : player.timed_out()) std::cout << "  timed out: " << t << "\n";
   return 0;

@@ -185,7 +185,7 @@ class LcmOperator {
         bridge_.wait(5, t);
         if (std::chrono::steady_clock::now() > resend) {
           bridge_.publish_state(state);
-          resend += kLockstepResend;
+          resend = std::chrono::steady_clock::now() + kLockstepResend;  // no burst after a stall
         }
       }
       if (jobs::interrupting_signal() != 0) {
@@ -338,7 +338,7 @@ int run_session(const RunJob& job) {
   if (player) report["result"]["script_phases_timed_out"] = player->player().timed_out();
   report["recording"] = recorded;
   report["controls"] = {{"accepted", cs.accepted}, {"clamped", cs.clamped}, {"rejected_nan", cs.rejected_nan},
-                        {"rejected_stale", cs.rejected_stale}, {"rejected_tick", cs.rejected_tick},
+                        {"rejected_stale", cs.rejected_stale}, {"rejected_tick", cs.rejected_tick}, {"repeated", cs.repeated},
                         {"malformed", cs.malformed}, {"watchdog_trips", cs.watchdog_trips}};
   report["lockstep_missed_ticks"] = live ? live->missed_ticks() : 0;
   report["performance"] = {{"simulated_s", sim_s}, {"wall_time_s", wall_s},

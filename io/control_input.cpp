@@ -18,6 +18,13 @@ bool ControlInput::offer(const skidsim_lcm::control_t& m, double sim_time_s) {
       ++stats_.rejected_nan;
       return false;
     }
+  // Lockstep: an operator answers a state sent again with the same answer
+  // (a lost datagram is so asked for again); the copies are not commands.
+  if (awaited_step_ >= 0 && have_command_ && m.sender_id == last_sender_ && m.seq == last_seq_ &&
+      m.sim_step == last_sim_step_) {
+    ++stats_.repeated;
+    return false;
+  }
   if (awaited_step_ >= 0 && m.sim_step != awaited_step_) {
     ++stats_.rejected_tick;
     return false;

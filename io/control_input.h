@@ -19,6 +19,7 @@ struct ControlStats {
   std::int64_t rejected_nan = 0;    // a value not finite
   std::int64_t rejected_stale = 0;  // a sequence number not above the last accepted one
   std::int64_t rejected_tick = 0;   // lockstep: stamped for another tick than the one awaited
+  std::int64_t repeated = 0;        // lockstep: the accepted answer sent again (same sender, seq and tick), set aside
   std::int64_t malformed = 0;       // bytes that did not decode (counted by the bridge)
   std::int64_t watchdog_trips = 0;  // times the watchdog returned the levers to neutral
 };

@@ -3,9 +3,9 @@
 #include "terrain/momentum_flow_cells.h"
 
 #include <algorithm>
-#include <limits>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -65,8 +65,9 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   }
   mu_start_ = tan_deg(start_deg);
   const double bed_start_deg = params.bed_start_deg > 0.0 ? params.bed_start_deg : soil.bed_start_angle_deg;
-  if (!(bed_start_deg == 0.0 || (bed_start_deg >= bed_deg && bed_start_deg < 89.0)))
-    throw std::invalid_argument("momentum flow: bed_start_deg must be 0 or in [bed friction, 89) deg");
+  if (!(bed_start_deg == 0.0 || (bed_start_deg >= bed_deg && bed_start_deg <= start_deg)))
+    throw std::invalid_argument("momentum flow: the bed's start angle (bed_start_deg, or the soil's bed_start_angle_deg) must be "
+                                "0 or between the bed friction and the start friction");
   bed_start_tan_ = bed_start_deg > 0.0 ? tan_deg(bed_start_deg) : 0.0;  // 0: every bed under a layer erodes
   if (params.earth_pressure > 0.0) {
     k_active_ = k_passive_ = params.earth_pressure;

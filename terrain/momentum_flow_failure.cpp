@@ -107,19 +107,84 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     core_[c] = grid.surface_at(c);
+    const bool erodes = erosion_ && flowing_[c] > 0;
+    rise_[n] = d_ * (erodes ? mu_ : mu_start_);  // mu_ <= mu_start_ (constructor)
+    if (!(bed_start_tan_ > 0.0)) continue;
     const double bed = bed_m(grid, c);
-    if (bed_start_tan_ > 0.0 && std::isnan(event_bed_m_[c])) {
+    if (std::isnan(event_bed_m_[c])) {
       event_bed_m_[c] = bed;
       in_event_.push_back(c);
     }
-    const bool erodes = erosion_ && flowing_[c] > 0;
-    rise_[n] = d_ * (erodes ? mu_ : mu_start_);  // mu_ <= mu_start_ (constructor)
-    // How low erosion may cut: anywhere without a start angle for the bed
-    // or where the bed stands past it; else down to the bed the event found
-    // (what the flow laid on it goes) or as low as it has been cut.
-    bed_floor_m_[n] = !erodes || bed_start_tan_ == 0.0 || bed_past_start(grid, c) ? -std::numeric_limits<double>::infinity()
-                                                                                  : std::min(bed, event_bed_m_[c]);
+    // How low erosion may cut: anywhere where the bed stands past its start
+    // angle; else down to the bed the event found (what the flow laid on it
+    // goes) or as low as it has been cut. (Judged on the found bed as the
+    // last pass left it: on a cell's first sub-step, before its failure.)
+    bed_floor_m_[n] = !erodes || bed_past_start(grid, c) ? -std::numeric_limits<double>::infinity()
+                                                         : std::min(bed, event_bed_m_[c]);
   }
+  relax_core(grid);
+  // The new layers go to layer_ first, the faces' new momentum to keep_:
+  // whether a thin layer is fed reads its neighbours as they were before
+  // the pass.
+  layer_.resize(candidates_.size());
+  keep_.assign(candidates_.size(), 1.0);
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    const std::int64_t q = grid.loose_quanta(c);
+    // Less than h_stop above the core does not fail (it could not flow).
+    std::int64_t failing = std::llround((grid.surface_at(c) - core_[c]) / kHeightQuantumM);
+    if (failing * kHeightQuantumM < min_layer_m_) failing = 0;
+    rain_[c] = std::min(rain_[c], q);
+    std::int64_t flowing = std::max<std::int64_t>(0, std::min(flowing_[c], q - rain_[c]));
+    if (raining_) {
+      // Raining (Larrieu, Staron and Hinch 2006): what newly fails falls
+      // freely in its cell, from rest, and lands on the layer beneath at its
+      // fall's speed g t with no horizontal momentum (the column above stays
+      // in contact with what it lands on). A cell whose rain has landed takes
+      // what fails there afterwards into its flowing layer at once: the fall
+      // is the release from rest, once an event (until nothing there fails).
+      const std::int64_t newly = std::min(q, failing) - flowing - rain_[c];
+      if (failing == 0) fell_[c] = 0;
+      if (newly > 0 && fell_[c] && rain_[c] == 0) {
+        flowing += newly;
+      } else if (newly > 0) {
+        if (rain_[c] == 0) rain_speed_[c] = 0.0;
+        rain_[c] += newly;
+      }
+      if (rain_[c] > 0) {
+        rain_speed_[c] += kGravity_m_s2 * dt_s;
+        const std::int64_t lands =
+            std::clamp<std::int64_t>(std::llround(rain_speed_[c] * dt_s / kHeightQuantumM), 1, rain_[c]);
+        rain_[c] -= lands;
+        if (rain_[c] == 0) fell_[c] = 1;
+        // The faces this cell feeds carry its layer's momentum, now spread
+        // over more mass (after the pass, like the layers).
+        keep_[n] = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
+        flowing += lands;
+      }
+    } else {
+      flowing = std::min(q, std::max(flowing, failing));
+    }
+    // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
+    // min_flow_layer_m, scaled with the grains in a dimensionless
+    // comparison): it lies down, and the automaton's slow regime has it;
+    // unless a layer of at least h_stop still flows into it (the thin edge
+    // of an advancing front, pushed on by the layer behind: laid down each
+    // sub-step, it built a ramp the flow had to climb), or it slides on a
+    // floor of its own (lies_down).
+    layer_[n] = lies_down(grid, c, flowing) ? 0 : flowing;
+  }
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    flowing_[c] = layer_[n];
+    if (keep_[n] == 1.0) continue;
+    const std::array<int, 4> faces = faces_of(c);
+    for (int k = 0; k < 4; ++k)
+      if (leaves(k, face_u(k, faces[k]))) face_u(k, faces[k]) *= keep_[n];
+  }
+}
+
+void MomentumFlow::relax_core(const GranularGrid& grid) {
   const bool track = bed_start_tan_ > 0.0;
   // The neighbours before a cell in raster order as (di, dj); those after it are their opposites.
   constexpr int kBefore[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
@@ -185,65 +250,6 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
     else
       for (std::size_t n = candidates_.size(); n-- > 0;) changed = relax(n, -1) || changed;
     if (!changed && pass > 0) break;
-  }
-  // The new layers go to layer_ first, the faces' new momentum to keep_:
-  // whether a thin layer is fed reads its neighbours as they were before
-  // the pass.
-  layer_.resize(candidates_.size());
-  keep_.assign(candidates_.size(), 1.0);
-  for (std::size_t n = 0; n < candidates_.size(); ++n) {
-    const int c = candidates_[n];
-    const std::int64_t q = grid.loose_quanta(c);
-    // Less than h_stop above the core does not fail (it could not flow).
-    std::int64_t failing = std::llround((grid.surface_at(c) - core_[c]) / kHeightQuantumM);
-    if (failing * kHeightQuantumM < min_layer_m_) failing = 0;
-    rain_[c] = std::min(rain_[c], q);
-    std::int64_t flowing = std::max<std::int64_t>(0, std::min(flowing_[c], q - rain_[c]));
-    if (raining_) {
-      // Raining (Larrieu, Staron and Hinch 2006): what newly fails falls
-      // freely in its cell, from rest, and lands on the layer beneath at its
-      // fall's speed g t with no horizontal momentum (the column above stays
-      // in contact with what it lands on). A cell whose rain has landed takes
-      // what fails there afterwards into its flowing layer at once: the fall
-      // is the release from rest, once an event (until nothing there fails).
-      const std::int64_t newly = std::min(q, failing) - flowing - rain_[c];
-      if (failing == 0) fell_[c] = 0;
-      if (newly > 0 && fell_[c] && rain_[c] == 0) {
-        flowing += newly;
-      } else if (newly > 0) {
-        if (rain_[c] == 0) rain_speed_[c] = 0.0;
-        rain_[c] += newly;
-      }
-      if (rain_[c] > 0) {
-        rain_speed_[c] += kGravity_m_s2 * dt_s;
-        const std::int64_t lands =
-            std::clamp<std::int64_t>(std::llround(rain_speed_[c] * dt_s / kHeightQuantumM), 1, rain_[c]);
-        rain_[c] -= lands;
-        if (rain_[c] == 0) fell_[c] = 1;
-        // The faces this cell feeds carry its layer's momentum, now spread
-        // over more mass (after the pass, like the layers).
-        keep_[n] = flowing > 0 ? static_cast<double>(flowing) / static_cast<double>(flowing + lands) : 0.0;
-        flowing += lands;
-      }
-    } else {
-      flowing = std::min(q, std::max(flowing, failing));
-    }
-    // A layer thinner than h_stop does not flow (Pouliquen 1999; the soil's
-    // min_flow_layer_m, scaled with the grains in a dimensionless
-    // comparison): it lies down, and the automaton's slow regime has it;
-    // unless a layer of at least h_stop still flows into it (the thin edge
-    // of an advancing front, pushed on by the layer behind: laid down each
-    // sub-step, it built a ramp the flow had to climb), or it slides on a
-    // floor of its own (lies_down).
-    layer_[n] = lies_down(grid, c, flowing) ? 0 : flowing;
-  }
-  for (std::size_t n = 0; n < candidates_.size(); ++n) {
-    const int c = candidates_[n];
-    flowing_[c] = layer_[n];
-    if (keep_[n] == 1.0) continue;
-    const std::array<int, 4> faces = faces_of(c);
-    for (int k = 0; k < 4; ++k)
-      if (leaves(k, face_u(k, faces[k]))) face_u(k, faces[k]) *= keep_[n];
   }
 }
 

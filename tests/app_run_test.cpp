@@ -546,6 +546,8 @@ TEST(SkidsimRun, LockstepOverALossySlowLinkStillEndsAsItsScriptDoes) {
   EXPECT_EQ(report["lockstep_missed_ticks"], 0);
   EXPECT_EQ(report["controls"]["accepted"], 1000);
   EXPECT_EQ(report["controls"]["watchdog_trips"], 0) << "simulated time stands still while a tick waits";
+  EXPECT_EQ(report["controls"]["rejected_tick"], 0) << "an answer sent again is a copy, not a wrong tick";
+  EXPECT_GE(report["controls"]["repeated"].get<int>(), 1) << "the relay's held and lost answers were asked for again";
   EXPECT_EQ(report["final_state_hash"], alone) << "a lost or late datagram must not change the session";
   fs::remove_all(dir);
   fs::remove(dir.string() + ".rc");
