@@ -200,6 +200,8 @@ class MomentumFlow {
   // fail's core: the chamfer transform over the examined cells (rise_,
   // bed_floor_m_), and with a bed start angle the found beds with it.
   void relax_core(const GranularGrid& grid);
+  template <bool kTrack>
+  void relax_core_passes(const GranularGrid& grid);
   // Whether a neighbour's flowing layer of at least h_stop moves into the
   // cell across a face (the passes that change layers read it before they
   // write any: layer_).

@@ -185,18 +185,27 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
 }
 
 void MomentumFlow::relax_core(const GranularGrid& grid) {
-  const bool track = bed_start_tan_ > 0.0;
+  // Without a bed start angle (most soils) the passes do no more than the
+  // erosion's and the start angle's one transform.
+  if (bed_start_tan_ > 0.0) relax_core_passes<true>(grid);
+  else relax_core_passes<false>(grid);
+}
+
+template <bool kTrack>
+void MomentumFlow::relax_core_passes(const GranularGrid& grid) {
   // The neighbours before a cell in raster order as (di, dj); those after it are their opposites.
   constexpr int kBefore[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
   auto relax = [&](std::size_t n, int sign) {
     const int c = candidates_[n], i = c % nx_, j = c / nx_;
     const double rise = rise_[n], rise_diag = rise * std::sqrt(2.0);
-    const double start = d_ * mu_start_, start_diag = start * std::sqrt(2.0);
+    [[maybe_unused]] const double start = d_ * mu_start_, start_diag = start * std::sqrt(2.0);
     // `core` under the cell's rise (the erosion's where a layer moves);
     // with a bed start angle, `kept` under the start angle's and `found`,
     // the bed the event found as the failure alone (no erosion) leaves it,
     // under the start angle's over the neighbours' found beds.
-    double core = core_[c], kept = core_[c], found = track ? event_bed_m_[c] : 0.0;
+    double core = core_[c];
+    [[maybe_unused]] double kept = core_[c], found = 0.0;
+    if constexpr (kTrack) found = event_bed_m_[c];
     const auto level = [&](int nb) { return listed_[nb] ? core_[nb] : grid.surface_at(nb); };  // examined: its core
     if (i > 0 && j > 0 && i + 1 < nx_ && j + 1 < ny_) {
       // Inside the grid: the neighbours by offset.
@@ -205,7 +214,7 @@ void MomentumFlow::relax_core(const GranularGrid& grid) {
         if (grid.covered(nb)) continue;
         const bool diag = o[0] != 0 && o[1] != 0;
         core = std::min(core, level(nb) + (diag ? rise_diag : rise));
-        if (track) {
+        if constexpr (kTrack) {
           kept = std::min(kept, level(nb) + (diag ? start_diag : start));
           found = std::min(found, found_bed_m(grid, nb) + (diag ? start_diag : start));
         }
@@ -220,7 +229,7 @@ void MomentumFlow::relax_core(const GranularGrid& grid) {
         // A drop-off: bare base at the cell's own level.
         const double to = nb >= 0 ? level(nb) : static_cast<double>(grid.base_at(c));
         core = std::min(core, to + (diag ? rise_diag : rise));
-        if (track) {
+        if constexpr (kTrack) {
           kept = std::min(kept, to + (diag ? start_diag : start));
           found = std::min(found, (nb >= 0 ? found_bed_m(grid, nb) : to) + (diag ? start_diag : start));
         }
@@ -229,10 +238,10 @@ void MomentumFlow::relax_core(const GranularGrid& grid) {
     // Erosion cuts no lower than the bed's floor; the start angle holds
     // everywhere (without a bed start angle there is no floor, and the
     // erosion's core is already the lower).
-    if (track) core = std::min(kept, std::max(core, bed_floor_m_[n]));
+    if constexpr (kTrack) core = std::min(kept, std::max(core, bed_floor_m_[n]));
     core = std::max(core, static_cast<double>(grid.base_at(c)));
     bool changed = core < core_[c];
-    if (track) {
+    if constexpr (kTrack) {
       found = std::max(found, static_cast<double>(grid.base_at(c)));
       changed = changed || found < event_bed_m_[c];
       event_bed_m_[c] = found;
