@@ -64,11 +64,13 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
     wall_mu_over_gap_ = tan_deg(params.side_wall_friction_deg) / params.side_wall_gap_m;
   }
   mu_start_ = tan_deg(start_deg);
-  const double bed_start_deg = params.bed_start_deg > 0.0 ? params.bed_start_deg : soil.bed_start_angle_deg;
+  // The soil's bed start angle (terrain/flow_law.h; docs/fast_flows.md):
+  // 0, none, and every bed under a moving layer erodes to the bed friction.
+  const double bed_start_deg = soil.bed_start_angle_deg;
   if (!(bed_start_deg == 0.0 || (bed_start_deg >= bed_deg && bed_start_deg <= start_deg)))
-    throw std::invalid_argument("momentum flow: the bed's start angle (bed_start_deg, or the soil's bed_start_angle_deg) must be "
-                                "0 or between the bed friction and the start friction");
-  bed_start_tan_ = bed_start_deg > 0.0 ? tan_deg(bed_start_deg) : 0.0;  // 0: every bed under a layer erodes
+    throw std::invalid_argument("momentum flow: the soil's bed_start_angle_deg must be 0 or between the bed friction and the "
+                                "start friction");
+  bed_start_tan_ = bed_start_deg > 0.0 ? tan_deg(bed_start_deg) : 0.0;
   if (params.earth_pressure > 0.0) {
     k_active_ = k_passive_ = params.earth_pressure;
   } else {

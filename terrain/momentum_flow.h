@@ -103,17 +103,10 @@ struct MomentumFlowParameters {
   double side_wall_friction_deg = 0.0;
   // A moving layer erodes the bed beneath it down to the bed friction (the
   // thick layer's, bed_friction_deg, not the thin-layer law's rise; Daerr
-  // and Douady 1999); false: the core holds the repose angle under moving
-  // layers too.
+  // and Douady 1999); with the soil's bed_start_angle_deg, only what the
+  // flow event laid down and a bed past that angle (docs/fast_flows.md);
+  // false: the core holds the repose angle under moving layers too.
   bool erosion = true;
-  // The bed's start angle (deg): erosion carries away what this flow event
-  // laid down, and the bed it found only where that bed stands steeper than
-  // this (a deep bed at rest between the flowing friction and its start
-  // angle is metastable; the DEM's erodible bed, 24 grains deep, held at 28
-  // deg under layers of 4 to 12 grains and flowed by itself at 29,
-  // docs/fast_flows.md). 0: the soil's bed_start_angle_deg, and where it
-  // has none every bed under a moving layer erodes to the bed friction.
-  double bed_start_deg = 0.0;
   // The thickness the thin-layer law (Pouliquen 1999) reads. false (the
   // default): the flowing layer's. A thin layer set moving on a deep bed of
   // its own grains at rest slows at the friction of its own thickness and
