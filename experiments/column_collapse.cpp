@@ -10,11 +10,12 @@
 namespace skidsim::terrain {
 namespace {
 
-// dem/tools/collapse.py's thresholds, in units of r0 (its r0 is 0.1 m and
-// its grains 8 mm across): the edge at a quarter grain of thickness, the
-// centre within 1.5 grains of the axis.
-constexpr double kEdgeThicknessOverR0 = 0.25 * 0.008 / 0.1;
-constexpr double kCentreZoneOverR0 = 1.5 * 0.008 / 0.1;
+// dem/tools/collapse.py's thresholds: the edge at a quarter grain of
+// thickness, the centre within 1.5 grains of the axis; the grains the
+// case's (scaled with r0), else the DEM columns' 8 mm at r0 = 0.1 m.
+double grain_m(const CollapseCase& c) {
+  return c.momentum_params.grain_diameter_m > 0.0 ? c.momentum_params.grain_diameter_m : 0.008 / 0.1 * c.r0_m;
+}
 
 // The domain reaches as far as the DEM deck's (dem/collapse/column.in).
 double domain_reach_m(const CollapseCase& c) {
@@ -72,7 +73,7 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
       volume[k] += h * d * d;
       area[k] += d * d;
       total += h * d * d;
-      if (r <= std::max(kCentreZoneOverR0 * c.r0_m, 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, h);
+      if (r <= std::max(1.5 * grain_m(c), 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, h);
     }
   }
   if (!c.slot) {
@@ -84,7 +85,7 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
       const int di = (dir < 4 ? (dir == 0) - (dir == 1) : (dir % 2 == 0 ? 1 : -1));
       const int dj = (dir < 4 ? (dir == 2) - (dir == 3) : (dir < 6 ? 1 : -1));
       for (int n = 1; g.contains(ic + n * di, jc + n * dj); ++n)
-        if (g.material_m(ic + n * di, jc + n * dj) >= kEdgeThicknessOverR0 * c.r0_m)
+        if (g.material_m(ic + n * di, jc + n * dj) >= 0.25 * grain_m(c))
           (dir < 4 ? f.edge_along_axes_m : f.edge_along_diagonals_m) =
               std::max(dir < 4 ? f.edge_along_axes_m : f.edge_along_diagonals_m, distance_m(g, c, ic + n * di, jc + n * dj));
     }
@@ -97,7 +98,7 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
       found = true;
     }
     acc += volume[k];
-    if (area[k] > 0.0 && volume[k] / area[k] >= kEdgeThicknessOverR0 * c.r0_m) f.front_edge_m = d * (k + 1);
+    if (area[k] > 0.0 && volume[k] / area[k] >= 0.25 * grain_m(c)) f.front_edge_m = d * (k + 1);
   }
   return f;
 }

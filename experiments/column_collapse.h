@@ -48,8 +48,10 @@ struct CollapseCase {
 struct CollapseFrame {
   double t_s = 0.0;
   double front_r99_m = 0.0;      // the distance within which 99 % of the mass lies
-  double front_edge_m = 0.0;     // the farthest cell at least 0.02 r0 thick (the DEM's quarter grain at r0 = 0.1 m)
-  double centre_height_m = 0.0;  // the highest column within 0.12 r0 of the axis or the wall (1.5 grains)
+  // The grains: the case's momentum_params.grain_diameter_m, else the DEM
+  // columns' (0.08 r0).
+  double front_edge_m = 0.0;     // the farthest cell at least a quarter grain thick
+  double centre_height_m = 0.0;  // the highest column within 1.5 grains of the axis or the wall
   // A tube's deposit: its edge (as front_edge_m, cell by cell) along the
   // grid's axes and along its diagonals from the axis: a round deposit has
   // them alike.

@@ -4,9 +4,9 @@
 # (calibration, bed, blade runs, bucket; the wheel bed, its sinkage plates and the wheel runs;
 # the collapsing columns) and post-processes them into the committed CSVs. See dem/README.md.
 #
-#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute erodible bed
-#                                            blade bucket wheel_bed plate wheel chute_post
-#                                            erodible_post post wheel_post collapse
+#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute erodible impact
+#                                            bed blade bucket wheel_bed plate wheel chute_post
+#                                            erodible_post impact_post post wheel_post collapse
 #                                            collapse_post (default: all, in that order);
 #                                            optional stage "wide": the deep vertical cut in a
 #                                            0.5 m wide bin (its own bed, about 25 min more),
@@ -171,6 +171,24 @@ stage_erodible_post() {
   write_meta
 }
 
+# A dense granular jet on the floor: the columns' deck (dem/collapse/column.in) as a column 0.08 m
+# across (10 grains) and 0.4 m long, let go 0.3 m above the floor, dumped every 4 ms; how much of
+# its fall speed the sheet it sends out keeps, and its deposit (dem/tools/impact.py): a landing
+# from a body, as a bucket's dump lands, beside the dropped block of the collapse stage.
+IMPACT_ARGS=(-var a 10 -var r0 0.04 -var drop 0.3 -var dtout 0.004 -var tend 0.8)
+stage_impact() {
+  local c="$DEM/collapse"
+  mkdir -p "$SCRATCH/impact"
+  throttle
+  run_deck impact_jet "$c" column.in "${IMPACT_ARGS[@]}" -var out "$(rel "$SCRATCH/impact" "$c")" &
+}
+
+stage_impact_post() {
+  wait_ok
+  "$PY" "$DEM/tools/impact.py" "$SCRATCH/impact" "$DEM/calibration/results"
+  write_meta
+}
+
 stage_bed() {
   throttle; run_deck bed "$DEM/blade" bed.in -var scratch "$(rel "$SCRATCH" "$DEM/blade")" &
   wait_ok  # the blade runs and the bucket start from its restart
@@ -321,8 +339,8 @@ write_meta() {
 }
 
 stages=("$@")
-((${#stages[@]})) || stages=(meshes pile shear slide chute erodible bed blade bucket wheel_bed plate wheel chute_post
-  erodible_post post wheel_post collapse collapse_post)
+((${#stages[@]})) || stages=(meshes pile shear slide chute erodible impact bed blade bucket wheel_bed plate wheel chute_post
+  erodible_post impact_post post wheel_post collapse collapse_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done
