@@ -131,11 +131,14 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   CollapseFrame as_released;
   if (!dropped) as_released = measure_collapse(g, c, 0.0);
   if (dropped) {
-    exchange = std::make_unique<MaterialExchange>(&g, c.step_dt_s);
-    exchange->set_ground_flow(flow.get());
     const GranularGrid standing = column_grid(c, soil);
     as_released = measure_collapse(standing, c, 0.0);
     const int slabs = std::max(1, static_cast<int>(std::ceil(h0 / (0.5 * c.cell_m))));
+    // Room for every parcel: one that finds none lands at once, unfallen.
+    std::size_t parcels = 0;
+    for (int cell = 0; cell < g.nx() * g.ny(); ++cell) parcels += standing.material_quanta(cell % g.nx(), cell / g.nx()) > 0 ? slabs : 0;
+    exchange = std::make_unique<MaterialExchange>(&g, c.step_dt_s, parcels);
+    exchange->set_ground_flow(flow.get());
     for (int j = 0; j < g.ny(); ++j)
       for (int i = 0; i < g.nx(); ++i) {
         const std::int64_t q = standing.material_quanta(i, j);

@@ -186,6 +186,7 @@ stage_impact() {
 stage_impact_post() {
   wait_ok
   "$PY" "$DEM/tools/impact.py" "$SCRATCH/impact" "$DEM/calibration/results"
+  "$PY" "$DEM/tools/material_csv.py" "$DEM/calibration/results" "$DEM/calibration/material.csv"
   write_meta
 }
 

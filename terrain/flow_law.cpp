@@ -50,6 +50,8 @@ void validate(const SoilFlowParameters& soil) {
   if (soil.bed_start_angle_deg != 0.0 &&
       !(soil.bed_start_angle_deg >= soil.flowing_friction_deg() && soil.bed_start_angle_deg <= soil.repose_angle_deg))
     bad_field(soil, "bed_start_angle_deg", soil.bed_start_angle_deg, "0 or in [flowing friction, repose_angle_deg]");
+  if (!(soil.impact_sheet_speed_ratio >= 0.0 && soil.impact_sheet_speed_ratio <= 1.0))
+    bad_field(soil, "impact_sheet_speed_ratio", soil.impact_sheet_speed_ratio, "in [0, 1]");
   if (soil.grain_diameter_m > 0.0 || soil.thin_layer_friction_angle_deg != 0.0 || soil.thin_layer_decay_grains != 0.0) {
     if (!(soil.thin_layer_friction_angle_deg >= soil.flowing_friction_deg() && soil.thin_layer_friction_angle_deg < 89.0))
       bad_field(soil, "thin_layer_friction_angle_deg", soil.thin_layer_friction_angle_deg, "in [flowing friction, 89)");

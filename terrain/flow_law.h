@@ -65,6 +65,12 @@ struct SoilFlowParameters {
   // steeper than this (terrain/momentum_flow.h). 0: none, every bed under a
   // moving layer erodes down to the flowing friction.
   double bed_start_angle_deg = 0.0;
+  // What a landing keeps of its fall: material that lands from a body at
+  // speed V sends out a sheet at c V (a granular jet on a plate, Cheng et al.
+  // 2007: c = 1 for an ideal fluid, less for grains, which lose energy in
+  // their collisions; the DEM's jet, dem/README.md; terrain/momentum_flow.h).
+  // 0: a landing's vertical momentum is lost at the impact.
+  double impact_sheet_speed_ratio = 0.0;
 };
 
 // Throws std::invalid_argument naming the offending field when a value is out

@@ -308,7 +308,7 @@ void MaterialExchange::move_parcels() {
 
 void MaterialExchange::land_on_ground(int cell, const FallingParcel& p) {
   ground_->import_quanta(cell, p.quanta);
-  if (ground_flow_) ground_flow_->land(*ground_, cell, p.quanta, p.velocity_m_s.x(), p.velocity_m_s.y());
+  if (ground_flow_) ground_flow_->land(*ground_, cell, p.quanta, p.velocity_m_s.x(), p.velocity_m_s.y(), p.velocity_m_s.z());
 }
 
 void MaterialExchange::land(const FallingParcel& p) {

@@ -115,6 +115,14 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
   event_bed_m_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  impact_c_ = soil.impact_sheet_speed_ratio;
+  if (impact_c_ > 0.0) {
+    impact_m2_s_.assign(n, 0.0);
+    impact_m_.assign(n, 0.0);
+    impacted_.reserve(n);
+    impact_depth_.assign(n, 0);
+    impact_scratch_.reserve(2 * n);
+  }
   in_event_.reserve(n);  // a long event may reach every cell
 }
 
@@ -163,8 +171,13 @@ void MomentumFlow::wake_all(const GranularGrid& grid) {
     if (grid.loose_quanta(c) > 0) mark(c);
 }
 
-void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s) {
+void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s, double vz_m_s) {
   if (quanta <= 0) return;
+  if (impact_c_ > 0.0 && vz_m_s < 0.0) {
+    if (impact_m2_s_[cell] == 0.0) impacted_.push_back(cell);
+    impact_m2_s_[cell] += static_cast<double>(quanta) * kHeightQuantumM * -vz_m_s;
+    impact_m_[cell] += static_cast<double>(quanta) * kHeightQuantumM;
+  }
   const std::int64_t before = std::min(flowing_[cell], grid.loose_quanta(cell) - rain_[cell]);
   const std::int64_t after = std::min(std::max<std::int64_t>(before, 0) + quanta, grid.loose_quanta(cell) - rain_[cell]);
   if (after <= 0) return;
@@ -221,8 +234,11 @@ void MomentumFlow::step(GranularGrid& grid) {
     const std::array<int, 4> f = faces_of(c);
     const double u = std::max(std::abs(ux_face_[f[1]]), std::abs(ux_face_[f[0]]));
     const double v = std::max(std::abs(uy_face_[f[3]]), std::abs(uy_face_[f[2]]));
-    return u + v + std::sqrt(kGravity_m_s2 * k_passive_ * h);
+    // (a landing's sheet: up to c V)
+    return u + v + std::sqrt(kGravity_m_s2 * k_passive_ * h) + (impacted_.empty() ? 0.0 : impact_m_[c]);
   };
+  kick_pending_ = !impacted_.empty();
+  if (kick_pending_) shape_impacts();
   for (int c : moving_) fastest = std::max(fastest, signal(c));
   for (int c : candidates_) fastest = std::max(fastest, signal(c));
   const int n = std::clamp(static_cast<int>(std::ceil(fastest * step_dt_s_ / (courant_ * d_) - 1e-12)), 1, max_substeps_);
@@ -230,7 +246,10 @@ void MomentumFlow::step(GranularGrid& grid) {
     substep(grid, step_dt_s_ / n);
     ++last_substeps_;
     ++substeps_run_;
+    kick_pending_ = false;
   }
+  for (int c : impacted_) impact_m2_s_[c] = impact_m_[c] = 0.0, impact_depth_[c] = 0;
+  impacted_.clear();
 }
 
 void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
@@ -267,6 +286,66 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
   candidates_.clear(), x_faces_.clear(), y_faces_.clear();
 }
 
+void MomentumFlow::shape_impacts() {
+  // Depth in cells from the footprint's edge (1 on its rim), breadth first.
+  // The grid's border bounds no footprint (a strip one cell wide is a
+  // slice of a wider one).
+  auto inside = [&](int i, int j) { return i >= 0 && i < nx_ && j >= 0 && j < ny_; };
+  auto landed = [&](int i, int j) { return inside(i, j) && impact_m2_s_[j * nx_ + i] > 0.0; };
+  static constexpr int kDi[4] = {1, -1, 0, 0}, kDj[4] = {0, 0, 1, -1};
+  std::vector<int>& queue = impact_scratch_;
+  queue.clear();
+  for (int c : impacted_) {
+    impact_m_[c] = impact_c_ * impact_m2_s_[c] / impact_m_[c];  // the sheet's speed, c V
+    const int i = c % nx_, j = c / nx_;
+    for (int k = 0; k < 4; ++k)
+      if (inside(i + kDi[k], j + kDj[k]) && !landed(i + kDi[k], j + kDj[k])) {
+        impact_depth_[c] = 1;
+        queue.push_back(c);
+        break;
+      }
+  }
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const int c = queue[q], i = c % nx_, j = c / nx_;
+    for (int k = 0; k < 4; ++k) {
+      if (!landed(i + kDi[k], j + kDj[k])) continue;
+      const int nb = (j + kDj[k]) * nx_ + i + kDi[k];
+      if (impact_depth_[nb] == 0) impact_depth_[nb] = impact_depth_[c] + 1, queue.push_back(nb);
+    }
+  }
+  // Each footprint's half-width R (its deepest cell, in cells) and the
+  // pressure's share at depth D: 1 - ((R + 1/2 - D) / R)^2.
+  for (int c : impacted_) {
+    if (impact_depth_[c] < 0) continue;  // shaped with its footprint
+    queue.clear();
+    queue.push_back(c);
+    int deepest = impact_depth_[c];
+    impact_depth_[c] = -impact_depth_[c];
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const int a = queue[q], i = a % nx_, j = a / nx_;
+      for (int k = 0; k < 4; ++k) {
+        if (!landed(i + kDi[k], j + kDj[k])) continue;
+        const int nb = (j + kDj[k]) * nx_ + i + kDi[k];
+        if (impact_depth_[nb] <= 0) continue;
+        deepest = std::max(deepest, impact_depth_[nb]);
+        impact_depth_[nb] = -impact_depth_[nb];
+        queue.push_back(nb);
+      }
+    }
+    // Scaled so that the footprint bears the landings' whole momentum (the
+    // floor's reaction is the momentum flux).
+    const double r = static_cast<double>(deepest);
+    double all = 0.0, shaped = 0.0;
+    for (int a : queue) {
+      const double x = (r + 0.5 + impact_depth_[a]) / r;  // depth is negative here
+      all += impact_m2_s_[a];
+      impact_m2_s_[a] *= std::max(0.0, 1.0 - x * x);
+      shaped += impact_m2_s_[a];
+    }
+    for (int a : queue) impact_m2_s_[a] *= all / shaped;
+  }
+}
+
 void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
   // Each face's velocity from the surfaces on its two sides (a peak pushes
   // out across every face), the earth pressure of the flowing layers, and
@@ -286,8 +365,21 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double ha = a >= 0 ? grid.surface_at(a) - rain_[a] * kHeightQuantumM : grid.base_at(b);
     const double hb = b >= 0 ? grid.surface_at(b) - rain_[b] * kHeightQuantumM : grid.base_at(a);
     const double fa = a >= 0 ? flowing_[a] * kHeightQuantumM : 0.0, fb = b >= 0 ? flowing_[b] * kHeightQuantumM : 0.0;
+    // The landings' impulse (land, shape_impacts): -grad(w V dt), their
+    // pressure over the step, in its first sub-step. It speeds a face up
+    // to the sheet's speed c V at most (V the landing's mean fall speed):
+    // what the grains' collisions leave of the fall (the DEM's jet), and a
+    // bound the face's velocity, kicked step after step, would otherwise
+    // not have.
+    double kick = 0.0, sheet = 0.0;
+    if (kick_pending_) {
+      const double ja = a >= 0 ? impact_m2_s_[a] : 0.0, jb = b >= 0 ? impact_m2_s_[b] : 0.0;
+      kick = -(jb - ja) / d_;
+      if (a >= 0) sheet = std::max(sheet, impact_m_[a]);
+      if (b >= 0) sheet = std::max(sheet, impact_m_[b]);
+    }
     // The donor is the side the face's flow would come from.
-    const double push = -(hb - ha) / d_;
+    const double push = -kGravity_m_s2 * (hb - ha) / d_ * dt_s + kick;
     const bool plus = u != 0.0 ? u > 0.0 : push > 0.0;
     const int donor = plus ? a : b;
     if (donor < 0 || flowing_[donor] == 0) return 0.0;
@@ -298,6 +390,7 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     // -g (grad H + (K - 1) grad f): Savage-Hutter (2.23) on the face.
     const double acc = -kGravity_m_s2 * ((hb - ha) + (k_earth - 1.0) * (fb - fa)) / d_;
     double un = u + acc * dt_s;
+    if (kick != 0.0) un = std::abs(un) >= sheet ? un : std::clamp(un + kick, -sheet, sheet);
     const double cross = x ? cross_speed_at_x_face(i, j) : cross_speed_at_y_face(i, j);
     const double f = flowing_[donor] * kHeightQuantumM;
     // A layer with no static soil under it rubs on the hard base; on soil,

@@ -45,6 +45,11 @@
 // grains do; the hydrostatic alternative (everything failed flows at once)
 // over-runs tall columns, because a shallow layer turns the whole column's
 // height into horizontal pressure (raining = false keeps it selectable).
+// A landing from a body (land) joins the layer with its horizontal
+// momentum; with the soil's impact_sheet_speed_ratio c its fall presses on
+// the layer (the floor's reaction to its momentum flux, shaped as a
+// stagnation flow's over its footprint) and sends a sheet out at up to c V
+// (a granular jet on a plate; Cheng et al. 2007), else its fall is lost.
 // Material moves by exact integer transfers between cells (the grid's
 // transfer_quanta), so the ledger stays exact; momentum goes with the
 // material that carries it.
@@ -144,10 +149,15 @@ class MomentumFlow {
   // One step of step_dt_s: sub-steps as the fastest moving cell asks.
   void step(GranularGrid& grid);
   // `quanta` just landed in `cell` (already in the grid) from a fall, with
-  // the horizontal velocity it had (m/s): they join the flowing layer with
-  // that momentum and lose the vertical one (an inelastic impact, as the
-  // rain does), and the cell is examined at the next step.
-  void land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s);
+  // the velocity it had (m/s; vz < 0 falling): they join the flowing layer
+  // with the horizontal momentum, and the cell is examined at the next step.
+  // The vertical momentum is lost at the impact (as the rain's), unless the
+  // soil's impact_sheet_speed_ratio c is set: then the landing presses on
+  // the layer over the next step with the momentum it brings, rho w V for
+  // w the landed thickness per second and V its fall speed, and speeds it
+  // up to c V at most (a granular jet on a plate sends its sheet out at
+  // c V); the landed layer does not lie down while it lands.
+  void land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s, double vz_m_s = 0.0);
 
   double speed_m_s(int cell) const;
   // The velocity at a cell's centre: the mean of its two faces along each axis.
@@ -170,7 +180,8 @@ class MomentumFlow {
   double earth_pressure_passive() const { return k_passive_; }
   // Bytes of state per cell: two face velocities, the flowing and raining
   // layers, the rain's speed, the core, the quanta across two faces in a
-  // sub-step and four flags; the moving list comes on top.
+  // sub-step and four flags; the moving list comes on top (and, with a bed
+  // start angle or an impact sheet ratio, their fields: docs/fast_flows.md).
   static constexpr std::size_t kStateBytesPerCell =
       4 * sizeof(double) + 4 * sizeof(std::int64_t) + 4 * sizeof(std::uint8_t);
 
@@ -215,8 +226,11 @@ class MomentumFlow {
   // A layer thinner than h_stop on a bed of grains lies down (fail, settle)
   // unless a layer of at least h_stop feeds it; on a floor of its own it
   // slides on until it stops.
+  // A landing pressing on the layer (impact_sheet_speed_ratio) keeps it
+  // moving through the step it lands in.
   bool lies_down(const GranularGrid& grid, int cell, std::int64_t flowing) const {
-    return rain_[cell] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !on_floor(grid, cell, flowing) && !fed(grid, cell);
+    return rain_[cell] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !on_floor(grid, cell, flowing) && !fed(grid, cell) &&
+           !(!impacted_.empty() && impact_m_[cell] > 0.0);
   }
   // The quanta that arrived at face (i, j)'s donor on its minus side (the
   // cell behind it along the axis) or plus side this sub-step, and the
@@ -242,6 +256,19 @@ class MomentumFlow {
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0;
   bool raining_ = true, erosion_ = true, thin_layer_whole_depth_ = false;
+  // The landings' impact (land): the sheet speed ratio c, and per cell the
+  // landed thickness times its fall speed since the last step (m^2/s: the
+  // impulse per area over rho), the cells holding one listed.
+  double impact_c_ = 0.0;
+  std::vector<double> impact_m2_s_, impact_m_;  // and the landed thickness (m); shape_impacts: the sheet's speed
+  std::vector<int> impacted_;
+  std::vector<int> impact_depth_, impact_scratch_;  // shape_impacts: cells in from a footprint's edge; its lists
+  // The landings' pressure over each footprint (the cells landed on since
+  // the last step, 4-connected): a stagnation flow's, highest at its middle
+  // and falling to nothing at its edge (1 - (r / R)^2), bearing the
+  // landings' whole momentum; and each landed cell's sheet speed c V.
+  void shape_impacts();
+  bool kick_pending_ = false;  // the first sub-step of a step applies the landings' impulse
   std::vector<double> ux_face_, uy_face_;   // m/s on the faces
   std::vector<std::int64_t> flowing_;       // per cell: quanta of its flowing layer (<= its material)
   std::vector<std::uint8_t> listed_, x_listed_, y_listed_;

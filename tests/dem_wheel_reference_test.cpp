@@ -54,6 +54,7 @@ TEST(DemSand, TableHoldsTheCalibratedParameters) {
   EXPECT_NEAR(flow.thin_layer_friction_angle_deg, material.at("thin_layer_friction_angle_deg"), 0.05);
   EXPECT_NEAR(flow.thin_layer_decay_grains, material.at("thin_layer_decay_grains"), 0.005);
   EXPECT_NEAR(flow.bed_start_angle_deg, material.at("bed_start_angle_deg"), 0.05);
+  EXPECT_NEAR(flow.impact_sheet_speed_ratio, material.at("impact_sheet_speed_ratio"), 0.005);
   EXPECT_DOUBLE_EQ(flow.grain_diameter_m, material.at("particle_diameter_m"));
   EXPECT_EQ(soil.cohesion_kPa, 0.0);  // the DEM material has no cohesion model
 }

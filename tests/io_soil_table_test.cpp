@@ -85,6 +85,9 @@ TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
   flow = kFlow;  // a bed that starts to flow above the repose angle
   flow.insert(flow.find("/>"), " bed_start_angle_deg=\"40\"");
   expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "bed_start_angle_deg"});
+  flow = kFlow;  // a sheet faster than the fall that sends it
+  flow.insert(flow.find("/>"), " impact_sheet_speed_ratio=\"1.2\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "impact_sheet_speed_ratio"});
   expect_error("<soils>\n<soil id=\"a\" colour=\"red\">\n" + std::string(kFlow) + kTm + "</soil>\n</soils>\n",
                {":2:", "unknown attribute 'colour'"});
   expect_error("<soils>\n<soil id=\"a\">\n" + std::string(kFlow) + kTm + "</soil>\n<soil id=\"a\">\n" + kFlow + kTm +

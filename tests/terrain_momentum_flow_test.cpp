@@ -294,6 +294,56 @@ TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheThicknessTheLawReads)
   }
 }
 
+// A landing's impact (the soil's impact_sheet_speed_ratio c): a dense stream
+// 0.25 m wide lands on a level bed at V = 4 m/s, as thick per second as it
+// falls (w = V), for 0.1 s. Its pressure sends a sheet out to either side
+// at about c V (a jet on a plate; the impact speeds the layer up to c V, the
+// heap's own slope adds a little); without the ratio the landed heap
+// spreads by its own height alone, its vertical momentum lost, at a third
+// of that. The books stay exact either way.
+struct LandingRun {
+  double fastest_m_s = 0.0, front_m = 0.0;
+};
+LandingRun stream_landing(double ratio) {
+  const GridSpec spec = strip(160);
+  SoilFlowParameters soil = pile_angled_sand();
+  soil.impact_sheet_speed_ratio = ratio;
+  GranularGrid g(spec, soil, 0.002, 100000);
+  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, 0.2);
+  MomentumFlow flow(g, MomentumFlowParameters{}, 0.002);
+  const double fall_m_s = 4.0, w_m_s = fall_m_s, cell_m = spec.cell_size_m;
+  const std::int64_t per_step = std::llround(w_m_s * 0.002 / kHeightQuantumM);
+  LandingRun out;
+  for (int s = 0; s < 5000 && (s < 50 || flow.moving_cells() > 0); ++s) {
+    if (s < 50)
+      for (int i = 78; i < 83; ++i) {
+        g.import_quanta(g.index(i, 0), per_step);
+        flow.land(g, g.index(i, 0), per_step, 0.0, 0.0, -fall_m_s);
+      }
+    flow.step(g);
+    g.step();
+    for (int i = 0; i < spec.nx; ++i) out.fastest_m_s = std::max(out.fastest_m_s, flow.speed_m_s(g.index(i, 0)));
+  }
+  EXPECT_EQ(flow.moving_cells(), 0u);
+  EXPECT_TRUE(g.ledger().balanced());
+  for (int i = 80; i < spec.nx; ++i)
+    if (g.material_m(i, 0) > 0.2 + 0.005) out.front_m = (i - 80) * cell_m;
+  return out;
+}
+
+TEST(MomentumFlow, ALandingsImpactSendsASheetOutAtItsShareOfTheFall) {
+  const double fall_m_s = 4.0;
+  const LandingRun lost = stream_landing(0.0);
+  for (double c : {0.28, 0.5}) {
+    const LandingRun kept = stream_landing(c);
+    std::printf("[ measured ] c = %.2f: fastest %.2f m/s (c V = %.2f), front %.2f m (lost at the impact: %.2f m/s, %.2f m)\n", c,
+                kept.fastest_m_s, c * fall_m_s, kept.front_m, lost.fastest_m_s, lost.front_m);
+    EXPECT_NEAR(kept.fastest_m_s / (c * fall_m_s), 1.0, 0.2) << c;
+    EXPECT_LT(lost.fastest_m_s, 0.4 * kept.fastest_m_s) << c;
+    EXPECT_GT(kept.front_m, lost.front_m + 0.25) << c;
+  }
+}
+
 // A layer 5 cm thick arriving on a strip's top three cells at 1 m/s
 // downslope, run until it stops, the books exact.
 void run_a_layer_down(GranularGrid& g, MomentumFlow& flow) {

@@ -4,7 +4,7 @@
 Usage: material_csv.py CALIBRATION_RESULTS_DIR OUT.csv
 Reads repose.csv, shear_box.csv (Mohr-Coulomb comment lines), sliding_plate.csv
 (mean line), chute_summary.csv, chute_thickness.csv, bed.csv and, where present,
-erodible_summary.csv from the results folder.
+erodible_summary.csv and impact_summary.csv from the results folder.
 
 From the inclined layers (chute_summary.csv): a flowing layer's friction on
 the grains (the thickest layer run: the limit a thick flow reaches, what a
@@ -15,6 +15,9 @@ From the erodible bed (erodible_summary.csv): the bed's start angle, midway
 between the steepest angle at which the bed, 24 grains deep, held at rest
 under every layer set moving on it and the gentlest at which it flowed by
 itself before the kick.
+
+From the granular jet (impact_summary.csv, dem/tools/impact.py): the share of
+its fall speed a landing's sheet keeps.
 """
 import math
 import os
@@ -67,6 +70,12 @@ def main():
             rows_erodible.append(("bed_start_angle_deg", 0.5 * (max(held_all) + min(flowed)), "deg",
                                   "calibration/erodible.in (held at %g deg under every layer, flowed by itself at %g)"
                                   % (max(held_all), min(flowed))))
+    impact_path = os.path.join(d, "impact_summary.csv")
+    if os.path.exists(impact_path):
+        jet = kv(impact_path)
+        rows_erodible.append(("impact_sheet_speed_ratio", float(jet["impact_sheet_speed_ratio"]), "-",
+                              "collapse/column.in as a jet (%s m across, %s m long, let go %s m up; dem/tools/impact.py)"
+                              % (2 * float(jet["jet_radius_m"]), jet["jet_length_m"], jet["drop_m"])))
     rows = [
         ("repose_angle_deg", float(rep["repose_angle_deg"]), "deg", "calibration/pile.in"),
         ("friction_angle_deg", float(pk.group(1)), "deg", "calibration/shear_box.in (peak, 2-10 kPa)"),
