@@ -173,14 +173,14 @@ void MomentumFlow::wake_all(const GranularGrid& grid) {
 
 void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s, double vz_m_s) {
   if (quanta <= 0) return;
-  if (impact_c_ > 0.0 && vz_m_s < 0.0) {
+  const std::int64_t before = std::min(flowing_[cell], grid.loose_quanta(cell) - rain_[cell]);
+  const std::int64_t after = std::min(std::max<std::int64_t>(before, 0) + quanta, grid.loose_quanta(cell) - rain_[cell]);
+  if (after <= 0) return;
+  if (impact_c_ > 0.0 && vz_m_s < 0.0) {  // the cell is marked below, so the next step takes it
     if (impact_m2_s_[cell] == 0.0) impacted_.push_back(cell);
     impact_m2_s_[cell] += static_cast<double>(quanta) * kHeightQuantumM * -vz_m_s;
     impact_m_[cell] += static_cast<double>(quanta) * kHeightQuantumM;
   }
-  const std::int64_t before = std::min(flowing_[cell], grid.loose_quanta(cell) - rain_[cell]);
-  const std::int64_t after = std::min(std::max<std::int64_t>(before, 0) + quanta, grid.loose_quanta(cell) - rain_[cell]);
-  if (after <= 0) return;
   // Each face the cell feeds (or that stands still) takes the mass-weighted
   // mean of its velocity and the landing's component across it; a face
   // feeding the cell belongs to its neighbour's layer and is left alone.
@@ -313,6 +313,9 @@ void MomentumFlow::shape_impacts() {
       if (impact_depth_[nb] == 0) impact_depth_[nb] = impact_depth_[c] + 1, queue.push_back(nb);
     }
   }
+  // A footprint with no rim (it covers its whole grid) is pressed evenly.
+  for (int c : impacted_)
+    if (impact_depth_[c] == 0) impact_depth_[c] = 1;
   // Each footprint's half-width R (its deepest cell, in cells) and the
   // pressure's share at depth D: 1 - ((R + 1/2 - D) / R)^2.
   for (int c : impacted_) {

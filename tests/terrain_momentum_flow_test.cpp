@@ -344,6 +344,28 @@ TEST(MomentumFlow, ALandingsImpactSendsASheetOutAtItsShareOfTheFall) {
   }
 }
 
+// A landing that covers its whole grid has no rim: it is pressed evenly
+// and moves nothing sideways; every velocity stays finite, the books exact.
+TEST(MomentumFlow, ALandingOverItsWholeGridStaysFinite) {
+  const GridSpec spec = strip(5);
+  SoilFlowParameters soil = pile_angled_sand();
+  soil.impact_sheet_speed_ratio = 0.28;
+  GranularGrid g(spec, soil, 0.002, 100000);
+  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, 0.2);
+  MomentumFlow flow(g, MomentumFlowParameters{}, 0.002);
+  const std::int64_t per_step = std::llround(0.008 / kHeightQuantumM);
+  for (int s = 0; s < 50; ++s) {
+    for (int i = 0; i < spec.nx; ++i) {
+      g.import_quanta(g.index(i, 0), per_step);
+      flow.land(g, g.index(i, 0), per_step, 0.0, 0.0, -4.0);
+    }
+    flow.step(g);
+    g.step();
+    for (int i = 0; i < spec.nx; ++i) ASSERT_TRUE(std::isfinite(flow.speed_m_s(g.index(i, 0)))) << s << " " << i;
+  }
+  EXPECT_TRUE(g.ledger().balanced());
+}
+
 // A layer 5 cm thick arriving on a strip's top three cells at 1 m/s
 // downslope, run until it stops, the books exact.
 void run_a_layer_down(GranularGrid& g, MomentumFlow& flow) {

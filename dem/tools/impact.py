@@ -66,7 +66,7 @@ def main():
     fell = [v for v in fall.values() if v > MIN_FALL_SPEED_M_S]
     drop = float(meta["drop_m"])
     length = centre_height(first, False) - drop
-    # the deposit's thickness at the bed's bulk density as the columns' (the jet's own is looser)
+    # the deposit's thickness at the column's bulk density as released (its settled length)
     rho_bulk = float(meta["mass_kg"]) / (math.pi * radius ** 2 * length)
     edge0, edge1 = front_edge(profile(first, False, 0.0, rho_bulk)), front_edge(profile(last, False, 0.0, rho_bulk))
     rows = [
