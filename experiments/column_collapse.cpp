@@ -62,6 +62,7 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
   const double d = g.cell_size_m();
   const int bins = static_cast<int>(std::ceil(domain_reach_m(c) * (c.slot ? 1.0 : std::sqrt(2.0)) / d)) + 2;
   std::vector<double> volume(bins, 0.0), area(bins, 0.0);
+  const double grain = grain_m(c);
   CollapseFrame f;
   f.t_s = t_s;
   double total = 0.0;
@@ -73,7 +74,7 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
       volume[k] += h * d * d;
       area[k] += d * d;
       total += h * d * d;
-      if (r <= std::max(1.5 * grain_m(c), 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, h);
+      if (r <= std::max(1.5 * grain, 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, h);
     }
   }
   if (!c.slot) {
@@ -85,7 +86,7 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
       const int di = (dir < 4 ? (dir == 0) - (dir == 1) : (dir % 2 == 0 ? 1 : -1));
       const int dj = (dir < 4 ? (dir == 2) - (dir == 3) : (dir < 6 ? 1 : -1));
       for (int n = 1; g.contains(ic + n * di, jc + n * dj); ++n)
-        if (g.material_m(ic + n * di, jc + n * dj) >= 0.25 * grain_m(c))
+        if (g.material_m(ic + n * di, jc + n * dj) >= 0.25 * grain)
           (dir < 4 ? f.edge_along_axes_m : f.edge_along_diagonals_m) =
               std::max(dir < 4 ? f.edge_along_axes_m : f.edge_along_diagonals_m, distance_m(g, c, ic + n * di, jc + n * dj));
     }
@@ -98,7 +99,7 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
       found = true;
     }
     acc += volume[k];
-    if (area[k] > 0.0 && volume[k] / area[k] >= 0.25 * grain_m(c)) f.front_edge_m = d * (k + 1);
+    if (area[k] > 0.0 && volume[k] / area[k] >= 0.25 * grain) f.front_edge_m = d * (k + 1);
   }
   return f;
 }

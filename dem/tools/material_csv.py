@@ -58,7 +58,7 @@ def main():
     walls = [float(r["wall_mu"]) for r in chute if float(r["side_wall_gap_m"]) > 0.0]
     law = kv(os.path.join(d, "chute_thickness.csv"))
     wall_deg = math.degrees(math.atan(sum(walls) / len(walls)))
-    rows_erodible = []
+    rows_optional = []
     erodible_path = os.path.join(d, "erodible_summary.csv")
     if os.path.exists(erodible_path):
         lines = [l.strip().split(",") for l in open(erodible_path) if l.strip()]
@@ -67,13 +67,13 @@ def main():
         held_all = sorted({float(r["theta_deg"]) for r in runs
                            if all(q["stopped"] == "1" for q in runs if q["theta_deg"] == r["theta_deg"])})
         if flowed and held_all and max(held_all) < min(flowed):
-            rows_erodible.append(("bed_start_angle_deg", 0.5 * (max(held_all) + min(flowed)), "deg",
+            rows_optional.append(("bed_start_angle_deg", 0.5 * (max(held_all) + min(flowed)), "deg",
                                   "calibration/erodible.in (held at %g deg under every layer, flowed by itself at %g)"
                                   % (max(held_all), min(flowed))))
     impact_path = os.path.join(d, "impact_summary.csv")
     if os.path.exists(impact_path):
         jet = kv(impact_path)
-        rows_erodible.append(("impact_sheet_speed_ratio", float(jet["impact_sheet_speed_ratio"]), "-",
+        rows_optional.append(("impact_sheet_speed_ratio", float(jet["impact_sheet_speed_ratio"]), "-",
                               "collapse/column.in as a jet (%s m across, %s m long, let go %s m up; dem/tools/impact.py)"
                               % (2 * float(jet["jet_radius_m"]), jet["jet_length_m"], jet["drop_m"])))
     rows = [
@@ -97,7 +97,7 @@ def main():
         ("bulk_density_kg_m3", float(bed["bulk_density_kg_m3"]), "kg/m3", "blade/bed.in (core of the settled bed)"),
         ("particle_diameter_m", 0.008, "m", "material.in (3 classes 7.2/8.0/8.8 mm, equal mass)"),
         ("particle_density_kg_m3", 2650.0, "kg/m3", "material.in"),
-    ] + rows_erodible
+    ] + rows_optional
     with open(out, "w") as f:
         f.write("quantity,value,unit,source_deck\n")
         for q, v, u, s in rows:
