@@ -19,6 +19,17 @@ const char* const kSeries[] = {"t_s", "chassis_x_m", "chassis_y_m", "speed_m_s",
                                "tipping_margin", "max_wheel_slip"};
 constexpr std::size_t kSeriesCount = sizeof(kSeries) / sizeof(kSeries[0]);
 
+// What fell from the bodies (a dump, a spill) and whether every parcel had
+// room to fall: one forced to land at once lands straight below, unfallen
+// (terrain/material_exchange.h).
+json falling_material(const engine::World& w) {
+  const terrain::MaterialExchange* ex = w.material();
+  if (!ex) return json(nullptr);
+  const terrain::ExchangeStats& s = ex->stats();
+  return {{"parcels_spawned", s.parcels_spawned}, {"parcels_forced_to_land", s.parcels_forced},
+          {"parcels_in_flight_peak", s.parcels_in_flight_peak}, {"parcel_room", ex->max_parcels()}};
+}
+
 }  // namespace
 
 Session::Session(const io::Exercise& exercise, const vehicle::LoaderDescription& loader, const io::SoilTable& soils,
@@ -232,6 +243,7 @@ json Session::report(const std::string& end_reason) const {
       {"final_state_hash", hash},
       {"end_reason", end_reason},
       {"machine_finite", w.events().finite},
+      {"falling_material", falling_material(w)},
   };
 }
 

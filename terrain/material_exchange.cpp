@@ -128,6 +128,7 @@ void MaterialExchange::spawn(const Eigen::Vector3d& at, const Eigen::Vector3d& v
     return;
   }
   parcels_.push_back(p);
+  stats_.parcels_in_flight_peak = std::max<std::int64_t>(stats_.parcels_in_flight_peak, static_cast<std::int64_t>(parcels_.size()));
 }
 
 void MaterialExchange::emit_edges(int k) {

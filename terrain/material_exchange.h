@@ -54,6 +54,7 @@ struct ExchangeStats {
   std::int64_t parcels_spawned = 0;
   std::int64_t parcels_landed = 0;
   std::int64_t parcels_forced = 0;  // landed at once because the parcel list was full
+  std::int64_t parcels_in_flight_peak = 0;  // the most falling at once (the list holds max_parcels())
   std::int64_t quanta_sliced = 0;
   std::int64_t quanta_over_lip = 0;  // ground into a body (6.3.3)
   // What left the bodies over their edges, per direction (+x: a bucket's
@@ -107,6 +108,7 @@ class MaterialExchange {
   // waiting at their edges, falling, held by cutting edges, on firm ground.
   std::int64_t total_quanta() const;
   const std::vector<FallingParcel>& parcels() const { return parcels_; }
+  std::size_t max_parcels() const { return max_parcels_; }
   const ExchangeStats& stats() const { return stats_; }
   double quantum_mass_kg() const { return quantum_mass_kg_; }
 

@@ -161,6 +161,10 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
   EXPECT_GE(report["result"]["score"].get<double>(), report["result"]["pass_score"].get<double>());
   EXPECT_TRUE(report["result"]["script_phases_timed_out"].empty()) << report["result"].dump();
   EXPECT_TRUE(report["machine_finite"].get<bool>());
+  // Every parcel that fell had room to fall (none landed at once, unfallen).
+  if (!report["falling_material"].is_null()) {
+    EXPECT_EQ(report["falling_material"]["parcels_forced_to_land"], 0) << report["falling_material"].dump();
+  }
   // The recorded final state (tests/data/final_state_hashes.txt): a
   // refactoring changes no session.
   std::ifstream recorded(std::string(SKIDSIM_SOURCE_DIR) + "/tests/data/final_state_hashes.txt");

@@ -280,6 +280,7 @@ TEST(BodyAutomaton, ParcelsLandedAtOnceStillFindTheTrayBelow) {
     ASSERT_EQ(ex.total_quanta(), total);
   }
   EXPECT_GT(ex.stats().parcels_forced, 0) << "the test must fill the parcel list";
+  EXPECT_EQ(ex.stats().parcels_in_flight_peak, 1) << "the list never holds more than its room";
   EXPECT_EQ(ex.on_firm_ground_quanta(), 0);
   EXPECT_EQ(tray.grid().total_quanta() + ex.in_flight_quanta(), total);
 }
