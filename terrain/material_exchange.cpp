@@ -276,7 +276,9 @@ void MaterialExchange::move_parcels() {
     if (!landed) {
       int gi = 0, gj = 0;
       if (ground_cell(p.position_m, &gi, &gj)) {
-        if (p.position_m.z() <= ground_->surface_m(gi, gj)) {
+        // (with an impact, a stream passes through the flowing layer to the bed)
+        const double layer_m = ground_flow_ ? ground_flow_->landing_layer_m(ground_->index(gi, gj)) : 0.0;
+        if (p.position_m.z() <= ground_->surface_m(gi, gj) - layer_m) {
           landed = true;
           target_body = -1;
           ti = gi;

@@ -117,8 +117,11 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   event_bed_m_.assign(n, std::numeric_limits<double>::quiet_NaN());
   impact_c_ = soil.impact_sheet_speed_ratio;
   if (impact_c_ > 0.0) {
-    impact_m2_s_.assign(n, 0.0);
-    impact_m_.assign(n, 0.0);
+    landed_m2_s_.assign(n, 0.0);
+    landed_m_.assign(n, 0.0);
+    impact_pressure_.assign(n, 0.0);
+    impact_sheet_m_s_.assign(n, 0.0);
+    impact_reach_.assign(n, 1.0);
     impacted_.reserve(n);
     impact_depth_.assign(n, 0);
     impact_scratch_.reserve(2 * n);
@@ -177,9 +180,9 @@ void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta,
   const std::int64_t after = std::min(std::max<std::int64_t>(before, 0) + quanta, grid.loose_quanta(cell) - rain_[cell]);
   if (after <= 0) return;
   if (impact_c_ > 0.0 && vz_m_s < 0.0) {  // the cell is marked below, so the next step takes it
-    if (impact_m2_s_[cell] == 0.0) impacted_.push_back(cell);
-    impact_m2_s_[cell] += static_cast<double>(quanta) * kHeightQuantumM * -vz_m_s;
-    impact_m_[cell] += static_cast<double>(quanta) * kHeightQuantumM;
+    if (impact_pressure_[cell] == 0.0 && landed_m_[cell] == 0.0) impacted_.push_back(cell);
+    landed_m2_s_[cell] += static_cast<double>(quanta) * kHeightQuantumM * -vz_m_s;
+    landed_m_[cell] += static_cast<double>(quanta) * kHeightQuantumM;
   }
   // Each face the cell feeds (or that stands still) takes the mass-weighted
   // mean of its velocity and the landing's component across it; a face
@@ -235,10 +238,9 @@ void MomentumFlow::step(GranularGrid& grid) {
     const double u = std::max(std::abs(ux_face_[f[1]]), std::abs(ux_face_[f[0]]));
     const double v = std::max(std::abs(uy_face_[f[3]]), std::abs(uy_face_[f[2]]));
     // (a landing's sheet: up to c V)
-    return u + v + std::sqrt(kGravity_m_s2 * k_passive_ * h) + (impacted_.empty() ? 0.0 : impact_m_[c]);
+    return u + v + std::sqrt(kGravity_m_s2 * k_passive_ * h) + (impacted_.empty() ? 0.0 : impact_sheet_m_s_[c]);
   };
-  kick_pending_ = !impacted_.empty();
-  if (kick_pending_) shape_impacts();
+  if (!impacted_.empty()) shape_impacts();
   for (int c : moving_) fastest = std::max(fastest, signal(c));
   for (int c : candidates_) fastest = std::max(fastest, signal(c));
   const int n = std::clamp(static_cast<int>(std::ceil(fastest * step_dt_s_ / (courant_ * d_) - 1e-12)), 1, max_substeps_);
@@ -246,10 +248,8 @@ void MomentumFlow::step(GranularGrid& grid) {
     substep(grid, step_dt_s_ / n);
     ++last_substeps_;
     ++substeps_run_;
-    kick_pending_ = false;
   }
-  for (int c : impacted_) impact_m2_s_[c] = impact_m_[c] = 0.0, impact_depth_[c] = 0;
-  impacted_.clear();
+  for (int c : impacted_) impact_depth_[c] = 0, landed_m2_s_[c] = 0.0, impact_reach_[c] = 1.0;  // (the shaped pressure) ready for the next landings
 }
 
 void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
@@ -287,16 +287,38 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
 }
 
 void MomentumFlow::shape_impacts() {
+  // The landings since the last step join each cell's pressure, which
+  // relaxes over the time its stream takes to fall two cells: a stream
+  // lands in pulses (a parcel per cell and half a cell's height), and its
+  // footprint, read one step at a time, would be a scatter of cells each
+  // pressing on its neighbours. The pressure's time integral is the
+  // landings' momentum (over rho). A pressure whose push over a step is
+  // under 0.1 mm/s has ended.
+  const double ended = 1e-4 * d_ / step_dt_s_;
+  std::size_t kept = 0;
+  for (int c : impacted_) {
+    if (landed_m_[c] > 0.0) impact_sheet_m_s_[c] = impact_c_ * landed_m2_s_[c] / landed_m_[c];  // c V
+    const double fall_m_s = impact_sheet_m_s_[c] / impact_c_;
+    const double keep = std::exp(-step_dt_s_ * fall_m_s / (2.0 * d_));
+    impact_pressure_[c] = keep * impact_pressure_[c] + (1.0 - keep) * landed_m2_s_[c] / step_dt_s_;
+    landed_m2_s_[c] = landed_m_[c] = 0.0;
+    if (impact_pressure_[c] < ended) {
+      impact_pressure_[c] = impact_sheet_m_s_[c] = 0.0;
+      continue;
+    }
+    impacted_[kept++] = c;
+    mark(c);
+  }
+  impacted_.resize(kept);
   // Depth in cells from the footprint's edge (1 on its rim), breadth first.
   // The grid's border bounds no footprint (a strip one cell wide is a
   // slice of a wider one).
   auto inside = [&](int i, int j) { return i >= 0 && i < nx_ && j >= 0 && j < ny_; };
-  auto landed = [&](int i, int j) { return inside(i, j) && impact_m2_s_[j * nx_ + i] > 0.0; };
+  auto landed = [&](int i, int j) { return inside(i, j) && impact_pressure_[j * nx_ + i] > 0.0; };
   static constexpr int kDi[4] = {1, -1, 0, 0}, kDj[4] = {0, 0, 1, -1};
   std::vector<int>& queue = impact_scratch_;
   queue.clear();
   for (int c : impacted_) {
-    impact_m_[c] = impact_c_ * impact_m2_s_[c] / impact_m_[c];  // the sheet's speed, c V
     const int i = c % nx_, j = c / nx_;
     for (int k = 0; k < 4; ++k)
       if (inside(i + kDi[k], j + kDj[k]) && !landed(i + kDi[k], j + kDj[k])) {
@@ -316,8 +338,9 @@ void MomentumFlow::shape_impacts() {
   // A footprint with no rim (it covers its whole grid) is pressed evenly.
   for (int c : impacted_)
     if (impact_depth_[c] == 0) impact_depth_[c] = 1;
-  // Each footprint's half-width R (its deepest cell, in cells) and the
-  // pressure's share at depth D: 1 - ((R + 1/2 - D) / R)^2.
+  // Each footprint's half-width R (its deepest cell, in cells), a cell's
+  // distance from its middle r = R + 1/2 - D at depth D, and the
+  // pressure's share there: 1 - (r / R)^2.
   for (int c : impacted_) {
     if (impact_depth_[c] < 0) continue;  // shaped with its footprint
     queue.clear();
@@ -335,17 +358,19 @@ void MomentumFlow::shape_impacts() {
         queue.push_back(nb);
       }
     }
-    // Scaled so that the footprint bears the landings' whole momentum (the
-    // floor's reaction is the momentum flux).
+    // Scaled so that the footprint bears the landings' whole pressure (the
+    // floor's reaction is the momentum flux); landed_m2_s_ holds it, and
+    // impact_reach_ r / R.
     const double r = static_cast<double>(deepest);
     double all = 0.0, shaped = 0.0;
     for (int a : queue) {
       const double x = (r + 0.5 + impact_depth_[a]) / r;  // depth is negative here
-      all += impact_m2_s_[a];
-      impact_m2_s_[a] *= std::max(0.0, 1.0 - x * x);
-      shaped += impact_m2_s_[a];
+      all += impact_pressure_[a];
+      landed_m2_s_[a] = std::max(0.0, 1.0 - x * x);
+      impact_reach_[a] = x;
+      shaped += landed_m2_s_[a];
     }
-    for (int a : queue) impact_m2_s_[a] *= all / shaped;
+    for (int a : queue) landed_m2_s_[a] *= all / shaped;
   }
 }
 
@@ -368,18 +393,20 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double ha = a >= 0 ? grid.surface_at(a) - rain_[a] * kHeightQuantumM : grid.base_at(b);
     const double hb = b >= 0 ? grid.surface_at(b) - rain_[b] * kHeightQuantumM : grid.base_at(a);
     const double fa = a >= 0 ? flowing_[a] * kHeightQuantumM : 0.0, fb = b >= 0 ? flowing_[b] * kHeightQuantumM : 0.0;
-    // The landings' impulse (land, shape_impacts): -grad(w V dt), their
-    // pressure over the step, in its first sub-step. It speeds a face up
-    // to the sheet's speed c V at most (V the landing's mean fall speed):
-    // what the grains' collisions leave of the fall (the DEM's jet), and a
-    // bound the face's velocity, kicked step after step, would otherwise
-    // not have.
+    // The landings' pressure (land, shape_impacts): -grad(p) / rho over
+    // the sub-step. It speeds a face up to the stagnation flow's speed
+    // c V r / R at most (the ideal flow under p's profile has V r / R; V
+    // the landing's mean fall speed, r / R the mean of the face's two
+    // cells', 1 outside the footprint): c is what the grains' collisions
+    // leave of the fall (the DEM's jet), and without a bound the face's
+    // velocity, pushed step after step, would grow without end.
     double kick = 0.0, sheet = 0.0;
-    if (kick_pending_) {
-      const double ja = a >= 0 ? impact_m2_s_[a] : 0.0, jb = b >= 0 ? impact_m2_s_[b] : 0.0;
-      kick = -(jb - ja) / d_;
-      if (a >= 0) sheet = std::max(sheet, impact_m_[a]);
-      if (b >= 0) sheet = std::max(sheet, impact_m_[b]);
+    if (!impacted_.empty()) {
+      const double pa = a >= 0 ? landed_m2_s_[a] : 0.0, pb = b >= 0 ? landed_m2_s_[b] : 0.0;
+      kick = -(pb - pa) / d_ * dt_s;
+      if (a >= 0) sheet = std::max(sheet, impact_sheet_m_s_[a]);
+      if (b >= 0) sheet = std::max(sheet, impact_sheet_m_s_[b]);
+      sheet *= 0.5 * ((a >= 0 ? impact_reach_[a] : 1.0) + (b >= 0 ? impact_reach_[b] : 1.0));
     }
     // The donor is the side the face's flow would come from.
     const double push = kick == 0.0 ? -(hb - ha) / d_ : -kGravity_m_s2 * (hb - ha) / d_ * dt_s + kick;

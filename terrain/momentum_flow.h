@@ -46,10 +46,11 @@
 // over-runs tall columns, because a shallow layer turns the whole column's
 // height into horizontal pressure (raining = false keeps it selectable).
 // A landing from a body (land) joins the layer with its horizontal
-// momentum; with the soil's impact_sheet_speed_ratio c its fall presses on
-// the layer (the floor's reaction to its momentum flux, shaped as a
-// stagnation flow's over its footprint) and sends a sheet out at up to c V
-// (a granular jet on a plate; Cheng et al. 2007), else its fall is lost.
+// momentum; with the soil's impact_sheet_speed_ratio c it falls through
+// the moving layer to the bed, and its fall presses on the layer (the
+// floor's reaction to its momentum flux, shaped as a stagnation flow's over
+// its footprint) and sends a sheet out at up to c V (a granular jet on a
+// plate; Cheng et al. 2007), else its fall is lost.
 // Material moves by exact integer transfers between cells (the grid's
 // transfer_quanta), so the ledger stays exact; momentum goes with the
 // material that carries it.
@@ -153,10 +154,11 @@ class MomentumFlow {
   // with the horizontal momentum, and the cell is examined at the next step.
   // The vertical momentum is lost at the impact (as the rain's), unless the
   // soil's impact_sheet_speed_ratio c is set: then the landing presses on
-  // the layer over the next step with the momentum it brings, rho w V for
-  // w the landed thickness per second and V its fall speed, and speeds it
-  // up to c V at most (a granular jet on a plate sends its sheet out at
-  // c V); the landed layer does not lie down while it lands.
+  // the layer with the momentum it brings, rho w V for w the landed
+  // thickness per second and V its fall speed, spread over the time the
+  // stream takes to fall two cells, and speeds it up to c V at most (a
+  // granular jet on a plate sends its sheet out at c V); the layer under a
+  // pressing stream does not lie down.
   void land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s, double vz_m_s = 0.0);
 
   double speed_m_s(int cell) const;
@@ -164,6 +166,11 @@ class MomentumFlow {
   double velocity_x_m_s(int cell) const;
   double velocity_y_m_s(int cell) const;
   double flowing_m(int cell) const { return flowing_[cell] * kHeightQuantumM; }
+  // What a falling parcel passes through before it lands: with an impact
+  // sheet speed ratio, the flowing layer (a stream meets the bed, its dead
+  // zone, and turns the layer on it: docs/fast_flows.md, "Landing"); else
+  // nothing, it lands on the layer's top.
+  double landing_layer_m(int cell) const { return impact_c_ > 0.0 ? flowing_m(cell) : 0.0; }
   double raining_m(int cell) const { return rain_[cell] * kHeightQuantumM; }
   std::size_t moving_cells() const { return moving_.size(); }
   const std::vector<int>& moving() const { return moving_; }
@@ -226,11 +233,11 @@ class MomentumFlow {
   // A layer thinner than h_stop on a bed of grains lies down (fail, settle)
   // unless a layer of at least h_stop feeds it; on a floor of its own it
   // slides on until it stops.
-  // A landing pressing on the layer (impact_sheet_speed_ratio) keeps it
-  // moving through the step it lands in.
+  // The layer under a landing's pressure (impact_sheet_speed_ratio) does
+  // not lie down.
   bool lies_down(const GranularGrid& grid, int cell, std::int64_t flowing) const {
     return rain_[cell] == 0 && flowing * kHeightQuantumM < min_layer_m_ && !on_floor(grid, cell, flowing) && !fed(grid, cell) &&
-           !(!impacted_.empty() && impact_m_[cell] > 0.0);
+           !(!impacted_.empty() && impact_pressure_[cell] > 0.0);
   }
   // The quanta that arrived at face (i, j)'s donor on its minus side (the
   // cell behind it along the axis) or plus side this sub-step, and the
@@ -256,19 +263,24 @@ class MomentumFlow {
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0;
   bool raining_ = true, erosion_ = true, thin_layer_whole_depth_ = false;
-  // The landings' impact (land): the sheet speed ratio c, and per cell the
+  // The landings' impact (land): the sheet speed ratio c; per cell the
   // landed thickness times its fall speed since the last step (m^2/s: the
-  // impulse per area over rho), the cells holding one listed.
+  // impulse per area over rho) and the landed thickness (m); the pressure
+  // over rho they keep up (m^2/s^2), relaxing over the time the stream
+  // takes to fall two cells (a stream's landings come in pulses, one per
+  // parcel), the sheet speed c V of the last landing and the cell's
+  // distance from its footprint's middle over the footprint's half-width
+  // (r / R); the cells under a pressure listed.
   double impact_c_ = 0.0;
-  std::vector<double> impact_m2_s_, impact_m_;  // and the landed thickness (m); shape_impacts: the sheet's speed
+  std::vector<double> landed_m2_s_, landed_m_;  // shape_impacts: landed_m2_s_ holds the shaped pressure
+  std::vector<double> impact_pressure_, impact_sheet_m_s_, impact_reach_;
   std::vector<int> impacted_;
   std::vector<int> impact_depth_, impact_scratch_;  // shape_impacts: cells in from a footprint's edge; its lists
-  // The landings' pressure over each footprint (the cells landed on since
-  // the last step, 4-connected): a stagnation flow's, highest at its middle
-  // and falling to nothing at its edge (1 - (r / R)^2), bearing the
-  // landings' whole momentum; and each landed cell's sheet speed c V.
+  // The landings' pressure over each footprint (the cells under a pressure,
+  // 4-connected): a stagnation flow's, highest at its middle and falling to
+  // nothing at its edge (1 - (r / R)^2), bearing the landings' whole
+  // momentum; the layer under it speeds up to c V r / R at most.
   void shape_impacts();
-  bool kick_pending_ = false;  // the first sub-step of a step applies the landings' impulse
   std::vector<double> ux_face_, uy_face_;   // m/s on the faces
   std::vector<std::int64_t> flowing_;       // per cell: quanta of its flowing layer (<= its material)
   std::vector<std::uint8_t> listed_, x_listed_, y_listed_;

@@ -189,10 +189,11 @@ TEST(DemCollapse, TheFastFlowIsCloserThanTheAutomatonOnEveryColumn) {
 // and 0.41 r0 high. Landing with its momentum and pressing on the layer with
 // its impact (dem_sand's impact_sheet_speed_ratio, measured on the DEM's
 // granular jet, not on this run), the grid's heap spreads to the DEM's edge
-// within 40 % (+31 / +4 % at 10 / 5 cm; a 10 cm cell is 6 % of it) and stands
-// within 30 % of its height
-// (+4 / +24 %); with the fall lost at the impact it stays 35-40 % short and
-// 80-92 % tall, and the automaton alone shorter still (docs/fast_flows.md).
+// within 25 % (+19 / -2 % at 10 / 5 cm; a 10 cm cell is 6 % of it) but
+// stands taller, within 50 % of its height (+27 / +42 %: its middle, where
+// the stagnation flow under the landing is slow, keeps a cone); with the
+// fall lost at the impact it stays 35-40 % short and 80-92 % tall, and the
+// automaton alone shorter still (docs/fast_flows.md).
 TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
   const Reference& s = reference();
   terrain::SoilFlowParameters lost = s.sand.flow;
@@ -212,8 +213,9 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
                   slow.final_height_over_r0);
       EXPECT_TRUE(fast.books_exact && plain.books_exact && slow.books_exact) << cell;
       EXPECT_TRUE(fast.flow_at_rest && plain.flow_at_rest) << cell;
-      EXPECT_NEAR(fast.edge_runout_over_r0 / d.edge_runout, 1.0, 0.4) << cell;
-      EXPECT_NEAR(fast.final_height_over_r0 / d.height, 1.0, 0.3) << cell;
+      EXPECT_NEAR(fast.edge_runout_over_r0 / d.edge_runout, 1.0, 0.25) << cell;
+      EXPECT_NEAR(fast.final_height_over_r0 / d.height, 1.0, 0.5) << cell;
+      EXPECT_LT(fast.final_height_over_r0, plain.final_height_over_r0 - 0.15) << cell;
       EXPECT_GT(fast.edge_runout_over_r0, plain.edge_runout_over_r0 + 0.4) << cell;
       EXPECT_GT(plain.edge_runout_over_r0, 1.3 * slow.edge_runout_over_r0) << cell;
       EXPECT_GT(plain.final_height_over_r0 / d.height, 1.7) << cell;
@@ -226,11 +228,11 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
 // granular jet (dem/calibration/results/impact_summary.csv), a column 0.08 m
 // across and 7.2 times as long let go 0.3 m above the floor, lands in a flat
 // cake 0.76 R high whose edge lies 3.8 R beyond R (and the sheet it throws
-// out keeps 0.28 of its fall speed: dem_sand's impact_sheet_speed_ratio).
-// The model, its grains scaled with the jet's radius R as the columns' with
-// r0: the edge within 40 % at 10 and 20 cells per radius (+34 / +24 %, a 10 cm
-// cell 3 % of it; +26 / +18 % with the fall lost), the centre within 50 %
-// (docs/fast_flows.md).
+// out keeps 0.20 of its free fall's speed: dem_sand's
+// impact_sheet_speed_ratio). The model, its grains scaled with the jet's
+// radius R as the columns' with r0: the edge within 30 % at 10 and 20 cells
+// per radius (+24 / +24 %, a 10 cm cell 3 % of it), the centre within 30 %
+// (+6 / +21 %) (docs/fast_flows.md).
 TEST(DemCollapse, AGranularJetLandsWhereTheDemsDid) {
   const Reference& s = reference();
   const fs::path path = fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/results/impact_summary.csv";
@@ -247,8 +249,8 @@ TEST(DemCollapse, AGranularJetLandsWhereTheDemsDid) {
                 run.edge_runout_over_r0, jet.at("edge_runout_over_R"), run.runout_over_r0, jet.at("r99_runout_over_R"), height,
                 jet.at("final_height_over_R"));
     EXPECT_TRUE(run.books_exact && run.flow_at_rest) << cell;
-    EXPECT_NEAR(run.edge_runout_over_r0 / jet.at("edge_runout_over_R"), 1.0, 0.4) << cell;
-    EXPECT_LT(height / jet.at("final_height_over_R"), 1.5) << cell;
+    EXPECT_NEAR(run.edge_runout_over_r0 / jet.at("edge_runout_over_R"), 1.0, 0.3) << cell;
+    EXPECT_NEAR(height / jet.at("final_height_over_R"), 1.0, 0.3) << cell;
   }
 }
 
