@@ -96,6 +96,11 @@ void MaterialExchange::step() {
   move_parcels();
 }
 
+void MaterialExchange::set_ground_flow(MomentumFlow* flow) {
+  ground_flow_ = flow;
+  through_flowing_layer_ = flow && flow->lands_through_layer();
+}
+
 void MaterialExchange::set_firm_ground_plane(const Eigen::Vector3d& normal, double offset_m) {
   if (!(normal.allFinite() && normal.z() > 0.0 && std::isfinite(offset_m)))
     throw std::invalid_argument("MaterialExchange: the firm ground's normal must point up and be finite");
@@ -276,8 +281,7 @@ void MaterialExchange::move_parcels() {
     if (!landed) {
       int gi = 0, gj = 0;
       if (ground_cell(p.position_m, &gi, &gj)) {
-        // (with an impact, a stream passes through the flowing layer to the bed)
-        const double layer_m = ground_flow_ ? ground_flow_->landing_layer_m(ground_->index(gi, gj)) : 0.0;
+        const double layer_m = through_flowing_layer_ ? ground_flow_->flowing_m(ground_->index(gi, gj)) : 0.0;
         if (p.position_m.z() <= ground_->surface_m(gi, gj) - layer_m) {
           landed = true;
           target_body = -1;

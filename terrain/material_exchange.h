@@ -77,8 +77,9 @@ class MaterialExchange {
   void set_cutting_edge(int body, const CuttingEdge& edge);
   // The ground's fast flow (terrain/momentum_flow.h; not owned, may be
   // null): what lands on the ground joins its flowing layer with the
-  // parcel's horizontal velocity.
-  void set_ground_flow(MomentumFlow* flow) { ground_flow_ = flow; }
+  // parcel's horizontal velocity (and, where its soil has an impact sheet
+  // speed ratio, falls through that layer to the bed).
+  void set_ground_flow(MomentumFlow* flow);
   // Material let go in the air (a load released from a height; the drop
   // experiment): a parcel like those that leave bodies, in the books from
   // now on.
@@ -140,6 +141,7 @@ class MaterialExchange {
 
   GranularGrid* ground_ = nullptr;
   MomentumFlow* ground_flow_ = nullptr;
+  bool through_flowing_layer_ = false;  // ground_flow_->lands_through_layer()
   double dt_s_;
   double cell_size_m_ = 0.0;
   double quantum_mass_kg_ = 0.0;

@@ -156,9 +156,10 @@ class MomentumFlow {
   // soil's impact_sheet_speed_ratio c is set: then the landing presses on
   // the layer with the momentum it brings, rho w V for w the landed
   // thickness per second and V its fall speed, spread over the time the
-  // stream takes to fall two cells, and speeds it up to c V at most (a
-  // granular jet on a plate sends its sheet out at c V); the layer under a
-  // pressing stream does not lie down.
+  // stream takes to fall two cells, and speeds it up to a stagnation
+  // flow's c V r / R at most (r / R from the footprint's middle to its rim:
+  // a granular jet on a plate sends its sheet out at c V); the layer under
+  // a pressing stream does not lie down.
   void land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s, double vz_m_s = 0.0);
 
   double speed_m_s(int cell) const;
@@ -166,11 +167,11 @@ class MomentumFlow {
   double velocity_x_m_s(int cell) const;
   double velocity_y_m_s(int cell) const;
   double flowing_m(int cell) const { return flowing_[cell] * kHeightQuantumM; }
-  // What a falling parcel passes through before it lands: with an impact
-  // sheet speed ratio, the flowing layer (a stream meets the bed, its dead
-  // zone, and turns the layer on it: docs/fast_flows.md, "Landing"); else
-  // nothing, it lands on the layer's top.
-  double landing_layer_m(int cell) const { return impact_c_ > 0.0 ? flowing_m(cell) : 0.0; }
+  // Whether a falling parcel passes through the flowing layer and lands on
+  // the bed under it: with an impact sheet speed ratio (a stream meets the
+  // bed, its dead zone, and turns the layer on it: docs/fast_flows.md,
+  // "Landing"); else it lands on the layer's top.
+  bool lands_through_layer() const { return impact_c_ > 0.0; }
   double raining_m(int cell) const { return rain_[cell] * kHeightQuantumM; }
   std::size_t moving_cells() const { return moving_.size(); }
   const std::vector<int>& moving() const { return moving_; }
