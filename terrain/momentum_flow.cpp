@@ -240,7 +240,10 @@ void MomentumFlow::step(GranularGrid& grid) {
     // (a landing's sheet: up to c V)
     return u + v + std::sqrt(kGravity_m_s2 * k_passive_ * h) + (impacted_.empty() ? 0.0 : impact_sheet_m_s_[c]);
   };
-  if (!impacted_.empty()) shape_impacts();
+  if (!impacted_.empty()) {
+    shape_impacts();
+    ++pressed_steps_;
+  }
   for (int c : moving_) fastest = std::max(fastest, signal(c));
   for (int c : candidates_) fastest = std::max(fastest, signal(c));
   const int n = std::clamp(static_cast<int>(std::ceil(fastest * step_dt_s_ / (courant_ * d_) - 1e-12)), 1, max_substeps_);

@@ -177,6 +177,7 @@ class MomentumFlow {
   const std::vector<int>& moving() const { return moving_; }
   int last_substeps() const { return last_substeps_; }
   long substeps_run() const { return substeps_run_; }  // since construction
+  long pressed_steps() const { return pressed_steps_; }  // steps with a landing's pressure, since construction
   double bed_friction_tan() const { return mu_; }
   // The bed friction of a layer h_m thick (the soil's thin-layer law; h_m
   // the flowing layer's thickness or the grains' whole depth,
@@ -262,7 +263,7 @@ class MomentumFlow {
   double thin_excess_ = 0.0, inv_decay_m_ = 0.0;  // tan theta_2 - tan theta_1, 1 / (A d)
   double mu_ = 0.0, bed_start_tan_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
-  long substeps_run_ = 0;
+  long substeps_run_ = 0, pressed_steps_ = 0;
   bool raining_ = true, erosion_ = true, thin_layer_whole_depth_ = false;
   // The landings' impact (land): the sheet speed ratio c; per cell the
   // landed thickness times its fall speed since the last step (m^2/s: the

@@ -12,6 +12,8 @@
 #include "engine/demo_controls.h"
 #include "engine/soil_site.h"
 #include "io/soil_table.h"
+#include "terrain/material_exchange.h"
+#include "terrain/momentum_flow.h"
 #include "tests/loader_support.h"
 
 namespace {
@@ -133,6 +135,51 @@ TEST(LoaderAllocation, DiggingStepAllocatesNothingOnceWarm) { digging_allocates_
 // With fast flows on the site (terrain/momentum_flow.h): the spills that land
 // flow with their momentum, and the step still allocates nothing.
 TEST(LoaderAllocation, DiggingStepWithFastFlowsAllocatesNothingOnceWarm) { digging_allocates_nothing_once_warm(true); }
+
+// A load landing with its impact (a soil with an impact sheet speed ratio,
+// as dem_sand has; docs/fast_flows.md, "Landing"): the landings' pressure,
+// its footprints and their shaping allocate nothing once the flow has seen
+// one such landing.
+TEST(LoaderAllocation, ALandingsImpactAllocatesNothingOnceWarm) {
+  terrain::GridSpec spec;
+  spec.nx = spec.ny = 61;
+  spec.cell_size_m = 0.05;
+  spec.origin_m = Eigen::Vector2d::Constant(-1.5);
+  terrain::SoilFlowParameters soil = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  ASSERT_GT(soil.impact_sheet_speed_ratio, 0.0);
+  terrain::GranularGrid g(spec, soil, 0.002, 100000);
+  terrain::MomentumFlow flow(g, terrain::MomentumFlowParameters{}, 0.002);
+  flow.reserve_cells(static_cast<std::size_t>(spec.nx * spec.ny));
+  terrain::MaterialExchange ex(&g, 0.002);
+  ex.set_ground_flow(&flow);
+  // A column 0.5 m tall and 0.25 m in radius let go 1 m up, twice: the
+  // second is counted.
+  const auto drop_and_land = [&] {
+    for (int j = 0; j < spec.ny; ++j)
+      for (int i = 0; i < spec.nx; ++i) {
+        const Eigen::Vector2d p = spec.origin_m + spec.cell_size_m * Eigen::Vector2d(i, j);
+        if (p.norm() > 0.25) continue;
+        for (int k = 0; k < 20; ++k)
+          ex.release(Eigen::Vector3d(p.x(), p.y(), 1.0 + (k + 0.5) * 0.025), Eigen::Vector3d::Zero(),
+                     std::llround(0.025 / terrain::kHeightQuantumM));
+      }
+    for (int s = 0; s < 3000 && (!ex.parcels().empty() || flow.moving_cells() > 0); ++s) {
+      flow.step(g);
+      g.step();
+      ex.step();
+    }
+  };
+  drop_and_land();
+  const long pressed = flow.pressed_steps();
+  const long before = g_allocations.load();
+  drop_and_land();
+  const long n = g_allocations.load() - before;
+  ::testing::Test::RecordProperty("allocations", std::to_string(n));
+  EXPECT_EQ(n, 0);
+  EXPECT_GT(pressed, 0);
+  EXPECT_GT(flow.pressed_steps(), pressed);  // the counted landing pressed on the layer
+  EXPECT_TRUE(g.ledger().balanced());
+}
 
 }  // namespace
 }  // namespace skidsim::testing
