@@ -170,7 +170,7 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
       run.frames.push_back(measure_collapse(g, c, s * c.step_dt_s));
       run.books_exact = run.books_exact && books();
     }
-    if (g.at_rest() && (!flow || flow->moving_cells() == 0) && (!exchange || exchange->parcels().empty())) {
+    if (g.at_rest() && (!flow || (flow->moving_cells() == 0 && !flow->pressing())) && (!exchange || exchange->parcels().empty())) {
       run.at_rest = true;
       run.t_stop_s = s * c.step_dt_s;
       break;
@@ -178,7 +178,7 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   }
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.steps = s;
-  run.flow_at_rest = !flow || flow->moving_cells() == 0;
+  run.flow_at_rest = !flow || (flow->moving_cells() == 0 && !flow->pressing());
   run.final_state = measure_collapse(g, c, s * c.step_dt_s);
   run.books_exact = run.books_exact && books();
   const CollapseFrame& first = run.frames.front();

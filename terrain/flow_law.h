@@ -68,8 +68,9 @@ struct SoilFlowParameters {
   // What a landing keeps of its fall: material that lands from a body at
   // speed V sends out a sheet at c V (a jet on a plate; c = 1 for an ideal
   // fluid, which Cheng et al. 2007 found a dense granular jet to resemble;
-  // 0.28 measured on the DEM's jet at twice its radius, floor friction
-  // included, dem/README.md; terrain/momentum_flow.h). 0: a landing's
+  // 0.20 measured on the DEM's jet at twice its radius against the free
+  // fall, floor friction included, dem/README.md; terrain/momentum_flow.h;
+  // the model's sheet speed is the stagnation flow's c V r / R). 0: a landing's
   // vertical momentum is lost at the impact.
   double impact_sheet_speed_ratio = 0.0;
 };

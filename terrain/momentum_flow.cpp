@@ -227,7 +227,9 @@ double MomentumFlow::cross_speed_at_y_face(int i, int j) const {
 
 void MomentumFlow::step(GranularGrid& grid) {
   last_substeps_ = 0;
-  if (moving_.empty() && candidates_.empty()) return;  // at rest: nothing to do
+  // At rest: nothing to do (a landing's pressure still relaxing keeps the
+  // flow stepping until it ends).
+  if (moving_.empty() && candidates_.empty() && impacted_.empty()) return;
   // Sub-steps for the fastest signal among the moving cells and the
   // candidates (Courant number courant_), within the bound checked at
   // construction.
@@ -305,7 +307,7 @@ void MomentumFlow::shape_impacts() {
     const double keep = std::exp(-step_dt_s_ * fall_m_s / (2.0 * d_));
     impact_pressure_[c] = keep * impact_pressure_[c] + (1.0 - keep) * landed_m2_s_[c] / step_dt_s_;
     landed_m2_s_[c] = landed_m_[c] = 0.0;
-    if (impact_pressure_[c] < ended) {
+    if (!(impact_pressure_[c] >= ended)) {  // (and a NaN ends)
       impact_pressure_[c] = impact_sheet_m_s_[c] = 0.0;
       continue;
     }

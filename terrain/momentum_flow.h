@@ -167,10 +167,10 @@ class MomentumFlow {
   double velocity_x_m_s(int cell) const;
   double velocity_y_m_s(int cell) const;
   double flowing_m(int cell) const { return flowing_[cell] * kHeightQuantumM; }
-  // Whether a falling parcel passes through the flowing layer and lands on
-  // the bed under it: with an impact sheet speed ratio (a stream meets the
-  // bed, its dead zone, and turns the layer on it: docs/fast_flows.md,
-  // "Landing"); else it lands on the layer's top.
+  // Whether a falling parcel passes through the flowing layer (and the rain
+  // still falling onto it) and lands on the bed under it: with an impact
+  // sheet speed ratio (a stream meets the bed, its dead zone, and turns the
+  // layer on it: docs/fast_flows.md, "Landing"); else it lands on the top.
   bool lands_through_layer() const { return impact_c_ > 0.0; }
   double raining_m(int cell) const { return rain_[cell] * kHeightQuantumM; }
   std::size_t moving_cells() const { return moving_.size(); }
@@ -178,6 +178,7 @@ class MomentumFlow {
   int last_substeps() const { return last_substeps_; }
   long substeps_run() const { return substeps_run_; }  // since construction
   long pressed_steps() const { return pressed_steps_; }  // steps with a landing's pressure, since construction
+  bool pressing() const { return !impacted_.empty(); }   // a landing's pressure has not ended yet
   double bed_friction_tan() const { return mu_; }
   // The bed friction of a layer h_m thick (the soil's thin-layer law; h_m
   // the flowing layer's thickness or the grains' whole depth,
@@ -270,7 +271,8 @@ class MomentumFlow {
   // impulse per area over rho) and the landed thickness (m); the pressure
   // over rho they keep up (m^2/s^2), relaxing over the time the stream
   // takes to fall two cells (a stream's landings come in pulses, one per
-  // parcel), the sheet speed c V of the last landing and the cell's
+  // parcel), the sheet speed c V of the last step's landings there (V
+  // their mass-weighted mean fall speed) and the cell's
   // distance from its footprint's middle over the footprint's half-width
   // (r / R); the cells under a pressure listed.
   double impact_c_ = 0.0;

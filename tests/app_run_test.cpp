@@ -162,6 +162,10 @@ TEST_P(ShippedScenario, IsDoneAndPassedWithItsScript) {
   EXPECT_TRUE(report["result"]["script_phases_timed_out"].empty()) << report["result"].dump();
   EXPECT_TRUE(report["machine_finite"].get<bool>());
   // Every parcel that fell had room to fall (none landed at once, unfallen).
+  ASSERT_TRUE(report.contains("falling_material"));
+  if (sc.has_soil) {
+    ASSERT_FALSE(report["falling_material"].is_null());
+  }
   if (!report["falling_material"].is_null()) {
     EXPECT_EQ(report["falling_material"]["parcels_forced_to_land"], 0) << report["falling_material"].dump();
   }

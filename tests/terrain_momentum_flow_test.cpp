@@ -347,13 +347,14 @@ TEST(MomentumFlow, ALandingsImpactSendsASheetOutAtItsShareOfTheFall) {
 }
 
 // A dense column let go above a bed lands as a stream over the time its
-// length takes to fall past the bed (its middle lands 0.14 s after its
-// foot, its top 0.26 s): with an impact ratio each parcel falls through the
-// moving layer the stream's pressure turns out, to the bed. With its fall
-// lost it lands on the heap of what landed before it, which rises to meet
-// the column: half the column lands within a few steps, as a rod would.
+// length takes to fall past the bed (its middle lands 0.146 s after its
+// foot, its top 0.262 s): with an impact ratio each parcel falls through
+// the moving layer the stream's pressure turns out, to the bed. With its
+// fall lost (c = 0) it lands on the heap of what landed before it, which
+// rises to meet the column: half the column lands within a few steps, as
+// a rod would.
 struct LandingSpan {
-  double half_s = 0.0, all_s = 0.0;  // after the first landing
+  double half_s = -1.0, all_s = -1.0;  // after the first landing
 };
 LandingSpan landing_span(double ratio) {
   GridSpec spec;
@@ -392,7 +393,7 @@ LandingSpan landing_span(double ratio) {
     if (ex.parcels().size() < before) {
       if (first_s < 0.0) first_s = s * 0.002;
       span.all_s = s * 0.002 - first_s;
-      if (span.half_s == 0.0 && 2 * static_cast<std::int64_t>(ex.parcels().size()) <= parcels) span.half_s = s * 0.002 - first_s;
+      if (span.half_s < 0.0 && 2 * static_cast<std::int64_t>(ex.parcels().size()) <= parcels) span.half_s = s * 0.002 - first_s;
     }
   }
   EXPECT_EQ(ex.stats().parcels_landed, parcels);
