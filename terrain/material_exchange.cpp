@@ -281,8 +281,11 @@ void MaterialExchange::move_parcels() {
     if (!landed) {
       int gi = 0, gj = 0;
       if (ground_cell(p.position_m, &gi, &gj)) {
-        const int cell = ground_->index(gi, gj);
-        const double layer_m = through_flowing_layer_ ? ground_flow_->flowing_m(cell) + ground_flow_->raining_m(cell) : 0.0;
+        double layer_m = 0.0;
+        if (through_flowing_layer_) {
+          const int cell = ground_->index(gi, gj);
+          layer_m = ground_flow_->flowing_m(cell) + ground_flow_->raining_m(cell);
+        }
         if (p.position_m.z() <= ground_->surface_m(gi, gj) - layer_m) {
           landed = true;
           target_body = -1;

@@ -81,7 +81,7 @@ def main():
     rows = [
         ("jet_radius_m", radius, "m"),
         ("jet_length_m", float(meta["H0_m"]), "m"),
-        ("drop_m", float(meta["drop_m"]), "m"),
+        ("drop_m", drop, "m"),
         ("grains", int(meta["grains"]), "-"),
         ("mean_fall_speed_m_s", sum(v for _, _, v, _ in left) / len(left), "m/s"),
         ("mean_sampled_fall_speed_m_s", sum(s for _, _, _, s in left) / len(left), "m/s"),
