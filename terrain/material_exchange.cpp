@@ -281,12 +281,13 @@ void MaterialExchange::move_parcels() {
     if (!landed) {
       int gi = 0, gj = 0;
       if (ground_cell(p.position_m, &gi, &gj)) {
+        const double surface_m = ground_->surface_m(gi, gj);
         double layer_m = 0.0;
-        if (through_flowing_layer_) {
+        if (through_flowing_layer_ && p.position_m.z() <= surface_m) {  // (above the surface it falls on)
           const int cell = ground_->index(gi, gj);
           layer_m = ground_flow_->flowing_m(cell) + ground_flow_->raining_m(cell);
         }
-        if (p.position_m.z() <= ground_->surface_m(gi, gj) - layer_m) {
+        if (p.position_m.z() <= surface_m - layer_m) {
           landed = true;
           target_body = -1;
           ti = gi;

@@ -138,7 +138,7 @@ std::pair<int, int> MomentumFlow::sides(const GranularGrid& grid, int face, bool
   return x ? sides_at(grid, face % (nx_ + 1), face / (nx_ + 1), true) : sides_at(grid, face % nx_, face / nx_, false);
 }
 
-std::pair<int, int> MomentumFlow::sides_at(const GranularGrid& grid, int i, int j, bool x) const {
+[[gnu::always_inline]] inline std::pair<int, int> MomentumFlow::sides_at(const GranularGrid& grid, int i, int j, bool x) const {
   const auto open = [&](int c) { return grid.covered(c) ? -2 : c; };
   if (x) {
     if (i > 0 && i < nx_) return {open(j * nx_ + i - 1), open(j * nx_ + i)};  // inside the grid
@@ -409,9 +409,11 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     if (!impacted_.empty()) {
       const double pa = a >= 0 ? landed_m2_s_[a] : 0.0, pb = b >= 0 ? landed_m2_s_[b] : 0.0;
       kick = -(pb - pa) / d_ * dt_s;
-      if (a >= 0) sheet = std::max(sheet, impact_sheet_m_s_[a]);
-      if (b >= 0) sheet = std::max(sheet, impact_sheet_m_s_[b]);
-      sheet *= 0.5 * ((a >= 0 ? impact_reach_[a] : 1.0) + (b >= 0 ? impact_reach_[b] : 1.0));
+      if (kick != 0.0) {  // (a face outside every footprint, or across its middle, feels none)
+        if (a >= 0) sheet = std::max(sheet, impact_sheet_m_s_[a]);
+        if (b >= 0) sheet = std::max(sheet, impact_sheet_m_s_[b]);
+        sheet *= 0.5 * ((a >= 0 ? impact_reach_[a] : 1.0) + (b >= 0 ? impact_reach_[b] : 1.0));
+      }
     }
     // The donor is the side the face's flow would come from.
     const double push = kick == 0.0 ? -(hb - ha) / d_ : -kGravity_m_s2 * (hb - ha) / d_ * dt_s + kick;
@@ -495,7 +497,7 @@ void MomentumFlow::transport(GranularGrid& grid, double dt_s) {
   for (const auto& [c, dq] : new_flowing_) flowing_[c] += dq;
 }
 
-MomentumFlow::Arrival MomentumFlow::arrival(int i, int j, bool x, bool plus_side) const {
+[[gnu::always_inline]] inline MomentumFlow::Arrival MomentumFlow::arrival(int i, int j, bool x, bool plus_side) const {
   // Face (i, j)'s donor on the given side is cell (ci, cj). What arrived
   // there across its face along the same axis carries that face's velocity;
   // what arrived across its two cross faces carries the velocity of the
