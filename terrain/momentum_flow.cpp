@@ -116,6 +116,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   fell_.assign(n, 0);
   event_bed_m_.assign(n, std::numeric_limits<double>::quiet_NaN());
   impact_c_ = soil.impact_sheet_speed_ratio;
+  impact_min_sheet2_m2_s2_ = 2.0 * mu_ * kGravity_m_s2 * d_;
   if (impact_c_ > 0.0) {
     landed_m2_s_.assign(n, 0.0);
     landed_m_.assign(n, 0.0);
@@ -179,7 +180,11 @@ void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta,
   const std::int64_t before = std::min(flowing_[cell], grid.loose_quanta(cell) - rain_[cell]);
   const std::int64_t after = std::min(std::max<std::int64_t>(before, 0) + quanta, grid.loose_quanta(cell) - rain_[cell]);
   if (after <= 0) return;
-  if (impact_c_ > 0.0 && vz_m_s < 0.0) {  // the cell is marked below, so the next step takes it
+  // A landing presses on the layer where the sheet it sends out (c V,
+  // slowing at mu g on the bed) would cross a cell: (c V)^2 >= 2 mu g d.
+  // A slower one (a spill off the bucket's lip onto the face it digs) is
+  // under the grid's resolution and loses its fall as rain does.
+  if (impact_c_ > 0.0 && vz_m_s < 0.0 && impact_c_ * impact_c_ * vz_m_s * vz_m_s >= impact_min_sheet2_m2_s2_) {  // the cell is marked below, so the next step takes it
     if (impact_pressure_[cell] == 0.0 && landed_m_[cell] == 0.0) impacted_.push_back(cell);
     landed_m2_s_[cell] += static_cast<double>(quanta) * kHeightQuantumM * -vz_m_s;
     landed_m_[cell] += static_cast<double>(quanta) * kHeightQuantumM;

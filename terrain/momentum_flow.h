@@ -50,7 +50,8 @@
 // the moving layer to the bed, and its fall presses on the layer (the
 // floor's reaction to its momentum flux, shaped as a stagnation flow's over
 // its footprint) and sends a sheet out at up to c V (a granular jet on a
-// plate; Cheng et al. 2007), else its fall is lost.
+// plate; Cheng et al. 2007) where that sheet would cross a cell before its
+// friction stops it; else its fall is lost.
 // Material moves by exact integer transfers between cells (the grid's
 // transfer_quanta), so the ledger stays exact; momentum goes with the
 // material that carries it.
@@ -275,7 +276,7 @@ class MomentumFlow {
   // their mass-weighted mean fall speed) and the cell's
   // distance from its footprint's middle over the footprint's half-width
   // (r / R); the cells under a pressure listed.
-  double impact_c_ = 0.0;
+  double impact_c_ = 0.0, impact_min_sheet2_m2_s2_ = 0.0;  // land: the slowest sheet that presses, squared
   std::vector<double> landed_m2_s_, landed_m_;  // shape_impacts: landed_m2_s_ holds the shaped pressure
   std::vector<double> impact_pressure_, impact_sheet_m_s_, impact_reach_;
   std::vector<int> impacted_;

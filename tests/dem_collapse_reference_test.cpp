@@ -17,10 +17,12 @@
 // 16-33 % short (the DEM's fringe of single grains), their heights within
 // 10 % at a = 0.5, 2 and 4 and 25 % at a = 1 (its centre stands 13-22 %
 // tall), the slot within 15 % and 10 %, the front's arrival within 20 %
-// where the column falls; the landings (a dropped column, a granular jet):
-// their edges within 40 %, the dropped column's height within 30 %.
-// The aim of 15 % is reached on the edges, the slot and the heights
-// but a = 1's and the landings', not on r99. A change that loses ground fails; tighten them as
+// where the column falls; the landings: the dropped column's edge within
+// 25 % and its height within 50 %, the granular jet's edge and centre
+// within 30 %, a bucket's load dumped on the sessions' sands within 15 % of
+// the DEM's edge. The aim of 15 % is reached on the edges (but the
+// jet's), the slot and the heights but a = 1's and the landings', not on
+// r99. A change that loses ground fails; tighten them as
 // the model improves.
 #include <gtest/gtest.h>
 
@@ -222,6 +224,50 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
     }
   }
   EXPECT_TRUE(found);
+}
+
+// The sessions' sands (dry_sand, lete_sand: the shipped sand sites) take
+// the sheet speed ratio the DEM's jet measured (assets/soils.xml): a bucket's
+// load, a column 1 m across and 0.5 m tall (0.39 m3), dumped from 2 m (4 r0, the DEM's
+// dropped column in its dimensionless form) at the sessions' 5 cm and at
+// 2.5 cm. Their own flow law (Coulomb at the stop angle, no thin-layer law)
+// is not the DEM material's, so this is the dump's footprint a trainee
+// sees, not a calibration: its edge within 15 % of the DEM's (+1 / -5 % and
+// +1 / -8 %), where with the fall lost it was 40-46 % short; its middle
+// stands taller than the DEM's flat cake (+43-78 %), yet lower than with the
+// fall lost (docs/fast_flows.md).
+TEST(DemCollapse, TheSessionsSandsSpreadADumpToTheDemsEdge) {
+  const Reference& s = reference();
+  const fs::path material_path = fs::path(io::default_assets_dir()).parent_path() / "dem/calibration/material.csv";
+  const double measured_c = read_csv_quantities(material_path).at("impact_sheet_speed_ratio");
+  const auto table = io::load_soil_table(io::default_soil_table_path());
+  const DemColumn* dropped = nullptr;
+  for (const DemColumn& d : s.dem)
+    if (d.drop_over_r0 > 0.0) dropped = &d;
+  ASSERT_NE(dropped, nullptr);
+  for (const char* name : {"dry_sand", "lete_sand"}) {
+    const terrain::SoilFlowParameters sand = table.at(name).flow;
+    EXPECT_NEAR(sand.impact_sheet_speed_ratio, measured_c, 0.005) << name;
+    terrain::SoilFlowParameters lost = sand;
+    lost.impact_sheet_speed_ratio = 0.0;
+    for (double cell : {0.05, 0.025}) {
+      terrain::CollapseCase c;
+      c.aspect = dropped->aspect;
+      c.r0_m = 0.5;
+      c.cell_m = cell;
+      c.momentum = true;
+      c.drop_over_r0 = dropped->drop_over_r0;
+      const auto run = terrain::run_column_collapse(c, sand), plain = terrain::run_column_collapse(c, lost);
+      std::printf("[ measured ] %s, a load 1 m across dumped from %.1f m, %g m: edge %.2f r0 (DEM %.2f; the fall lost %.2f), "
+                  "height %.2f r0 (DEM %.2f; the fall lost %.2f)\n",
+                  name, c.drop_over_r0 * c.r0_m, cell, run.edge_runout_over_r0, dropped->edge_runout, plain.edge_runout_over_r0,
+                  run.final_height_over_r0, dropped->height, plain.final_height_over_r0);
+      EXPECT_TRUE(run.books_exact && plain.books_exact && run.flow_at_rest) << name << ", " << cell;
+      EXPECT_NEAR(run.edge_runout_over_r0 / dropped->edge_runout, 1.0, 0.15) << name << ", " << cell;
+      EXPECT_GT(run.edge_runout_over_r0, plain.edge_runout_over_r0 + 0.4) << name << ", " << cell;
+      EXPECT_LT(run.final_height_over_r0, plain.final_height_over_r0 - 0.08) << name << ", " << cell;
+    }
+  }
 }
 
 // A load poured from a body lands as a stream, not as a block: the DEM's
