@@ -70,7 +70,8 @@ struct SoilFlowParameters {
   // fluid, which Cheng et al. 2007 found a dense granular jet to resemble;
   // 0.20 measured on the DEM's jet at twice its radius against the free
   // fall, floor friction included, dem/README.md; terrain/momentum_flow.h;
-  // the model's sheet speed is the stagnation flow's c V r / R). 0: a landing's
+  // the model's sheet speed is the stagnation flow's c V r / R; a landing
+  // whose sheet would stop within a cell does not press). 0: a landing's
   // vertical momentum is lost at the impact.
   double impact_sheet_speed_ratio = 0.0;
 };

@@ -160,7 +160,8 @@ class MomentumFlow {
   // stream takes to fall two cells, and speeds it up to a stagnation
   // flow's c V r / R at most (r / R from the footprint's middle to its rim:
   // a granular jet on a plate sends its sheet out at c V); the layer under
-  // a pressing stream does not lie down.
+  // a pressing stream does not lie down. A landing whose sheet would stop
+  // within a cell, (c V)^2 < 2 mu g d, does not press (its fall is lost).
   void land(const GranularGrid& grid, int cell, std::int64_t quanta, double vx_m_s, double vy_m_s, double vz_m_s = 0.0);
 
   double speed_m_s(int cell) const;
@@ -207,7 +208,7 @@ class MomentumFlow {
   double& face_u(int k, int face) { return k < 2 ? ux_face_[face] : uy_face_[face]; }
   // The cells on a face's minus and plus sides (-1 a drop-off, -2 a wall).
   std::pair<int, int> sides(const GranularGrid& grid, int face, bool x) const;
-  std::pair<int, int> sides_at(const GranularGrid& grid, int i, int j, bool x) const;  // face (i, j)
+  inline std::pair<int, int> sides_at(const GranularGrid& grid, int i, int j, bool x) const;  // face (i, j)
   void substep(GranularGrid& grid, double dt_s);
   // Puts the examined cells (candidates_, all listed) in raster order.
   void raster_order_candidates();
@@ -249,7 +250,7 @@ class MomentumFlow {
   struct Arrival {
     double quanta = 0.0, momentum = 0.0;
   };
-  Arrival arrival(int i, int j, bool x, bool plus_side) const;
+  inline Arrival arrival(int i, int j, bool x, bool plus_side) const;
   void accelerate(const GranularGrid& grid, double dt_s);
   void transport(GranularGrid& grid, double dt_s);
   void carry_momentum(const GranularGrid& grid);
