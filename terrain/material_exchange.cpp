@@ -283,7 +283,9 @@ void MaterialExchange::move_parcels() {
       if (ground_cell(p.position_m, &gi, &gj)) {
         const double surface_m = ground_->surface_m(gi, gj);
         double layer_m = 0.0;
-        if (through_flowing_layer_ && p.position_m.z() <= surface_m) {  // (above the surface it falls on)
+        // (above the surface it falls on; one that will press lands on the
+        // bed under the layer, MomentumFlow::landing_presses)
+        if (through_flowing_layer_ && p.position_m.z() <= surface_m && ground_flow_->landing_presses(p.velocity_m_s.z())) {
           const int cell = ground_->index(gi, gj);
           layer_m = ground_flow_->flowing_m(cell) + ground_flow_->raining_m(cell);
         }

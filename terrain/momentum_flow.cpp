@@ -180,11 +180,9 @@ void MomentumFlow::land(const GranularGrid& grid, int cell, std::int64_t quanta,
   const std::int64_t before = std::min(flowing_[cell], grid.loose_quanta(cell) - rain_[cell]);
   const std::int64_t after = std::min(std::max<std::int64_t>(before, 0) + quanta, grid.loose_quanta(cell) - rain_[cell]);
   if (after <= 0) return;
-  // A landing presses on the layer where the sheet it sends out (c V,
-  // slowing at mu g on the bed) would cross a cell: (c V)^2 >= 2 mu g d.
-  // A slower one (a spill off the bucket's lip onto the face it digs) is
-  // under the grid's resolution and loses its fall as rain does.
-  if (impact_c_ > 0.0 && vz_m_s < 0.0 && impact_c_ * impact_c_ * vz_m_s * vz_m_s >= impact_min_sheet2_m2_s2_) {  // the cell is marked below, so the next step takes it
+  // A landing presses on the layer where its sheet would cross a cell
+  // (landing_presses); a slower one loses its fall as rain does.
+  if (landing_presses(vz_m_s)) {  // the cell is marked below, so the next step takes it
     if (impact_pressure_[cell] == 0.0 && landed_m_[cell] == 0.0) impacted_.push_back(cell);
     landed_m2_s_[cell] += static_cast<double>(quanta) * kHeightQuantumM * -vz_m_s;
     landed_m_[cell] += static_cast<double>(quanta) * kHeightQuantumM;

@@ -169,11 +169,20 @@ class MomentumFlow {
   double velocity_x_m_s(int cell) const;
   double velocity_y_m_s(int cell) const;
   double flowing_m(int cell) const { return flowing_[cell] * kHeightQuantumM; }
-  // Whether a falling parcel passes through the flowing layer (and the rain
-  // still falling onto it) and lands on the bed under it: with an impact
-  // sheet speed ratio (a stream meets the bed, its dead zone, and turns the
-  // layer on it: docs/fast_flows.md, "Landing"); else it lands on the top.
+  // Whether a soil's landings can press at all (it has an impact sheet
+  // speed ratio).
   bool lands_through_layer() const { return impact_c_ > 0.0; }
+  // Whether a landing at vz_m_s presses on the layer: where the sheet it
+  // sends out (c V, slowing at mu g on the bed) would cross a cell,
+  // (c V)^2 >= 2 mu g d. Such a parcel passes through the flowing layer
+  // (and the rain still falling onto it) and lands on the bed under it (a
+  // stream meets the bed, its dead zone, and turns the layer on it:
+  // docs/fast_flows.md, "Landing"); a slower one (a spill off the bucket's
+  // lip onto the face it digs) is under the grid's resolution, lands on
+  // the top and loses its fall as rain does.
+  bool landing_presses(double vz_m_s) const {
+    return impact_c_ > 0.0 && vz_m_s < 0.0 && impact_c_ * impact_c_ * vz_m_s * vz_m_s >= impact_min_sheet2_m2_s2_;
+  }
   double raining_m(int cell) const { return rain_[cell] * kHeightQuantumM; }
   std::size_t moving_cells() const { return moving_.size(); }
   const std::vector<int>& moving() const { return moving_; }
