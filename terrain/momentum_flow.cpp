@@ -419,7 +419,7 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
       }
     }
     // The donor is the side the face's flow would come from.
-    const double push = kick == 0.0 ? -(hb - ha) / d_ : -kGravity_m_s2 * (hb - ha) / d_ * dt_s + kick;
+    const double push = -kGravity_m_s2 * (hb - ha) / d_ * dt_s + kick;
     const bool plus = u != 0.0 ? u > 0.0 : push > 0.0;
     const int donor = plus ? a : b;
     if (donor < 0 || flowing_[donor] == 0) return 0.0;
