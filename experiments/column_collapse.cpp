@@ -55,28 +55,37 @@ GranularGrid column_grid(const CollapseCase& c, const SoilFlowParameters& soil, 
 
 }  // namespace
 
-CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, double t_s) {
-  // Bins along the distance from the axis (or wall), d wide: the mass in
-  // each, and the area it spreads over (the cells' own, so a bin's thickness
-  // is the mean column height there).
+std::vector<double> radial_volumes_m3(const GranularGrid& g, const CollapseCase& c, std::vector<double>* area_m2) {
+  // Bins along the distance from the axis (or wall), d wide, a cell in the
+  // bin of its centre.
   const double d = g.cell_size_m();
   const int bins = static_cast<int>(std::ceil(domain_reach_m(c) * (c.slot ? 1.0 : std::sqrt(2.0)) / d)) + 2;
-  std::vector<double> volume(bins, 0.0), area(bins, 0.0);
+  std::vector<double> volume(bins, 0.0);
+  if (area_m2) area_m2->assign(bins, 0.0);
+  for (int j = 0; j < g.ny(); ++j)
+    for (int i = 0; i < g.nx(); ++i) {
+      const int k = std::min(bins - 1, static_cast<int>(distance_m(g, c, i, j) / d));
+      volume[k] += g.material_m(i, j) * d * d;
+      if (area_m2) (*area_m2)[k] += d * d;
+    }
+  return volume;
+}
+
+CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, double t_s) {
+  // The mass in each bin and the area it spreads over (the cells' own, so a
+  // bin's thickness is the mean column height there).
+  const double d = g.cell_size_m();
+  std::vector<double> area;
+  const std::vector<double> volume = radial_volumes_m3(g, c, &area);
+  const int bins = static_cast<int>(volume.size());
   const double grain = grain_m(c);
   CollapseFrame f;
   f.t_s = t_s;
   double total = 0.0;
-  for (int j = 0; j < g.ny(); ++j) {
-    for (int i = 0; i < g.nx(); ++i) {
-      const double r = distance_m(g, c, i, j);
-      const int k = std::min(bins - 1, static_cast<int>(r / d));
-      const double h = g.material_m(i, j);
-      volume[k] += h * d * d;
-      area[k] += d * d;
-      total += h * d * d;
-      if (r <= std::max(1.5 * grain, 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, h);
-    }
-  }
+  for (double v : volume) total += v;
+  for (int j = 0; j < g.ny(); ++j)
+    for (int i = 0; i < g.nx(); ++i)
+      if (distance_m(g, c, i, j) <= std::max(1.5 * grain, 0.5 * d)) f.centre_height_m = std::max(f.centre_height_m, g.material_m(i, j));
   if (!c.slot) {
     // The deposit's reach along the grid's axes and its diagonals from the
     // axis cell (the column stands centred on a cell): the farthest cell at
@@ -180,6 +189,7 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   run.steps = s;
   run.flow_at_rest = !flow || (flow->moving_cells() == 0 && !flow->pressing());
   run.final_state = measure_collapse(g, c, s * c.step_dt_s);
+  run.deposit_volume_m3 = radial_volumes_m3(g, c, nullptr);
   run.books_exact = run.books_exact && books();
   const CollapseFrame& first = run.frames.front();
   run.runout_over_r0 = (run.final_state.front_r99_m - first.front_r99_m) / c.r0_m;

@@ -68,6 +68,10 @@ struct CollapseRun {
   double runout_over_r0 = 0.0;       // front_r99
   double edge_runout_over_r0 = 0.0;  // front_edge
   double final_height_over_r0 = 0.0;
+  // The final deposit's volume in bins a cell wide along the distance from
+  // the axis (or the slot's wall), a cell in the bin of its centre: where
+  // its mass lies.
+  std::vector<double> deposit_volume_m3;
   double t_stop_s = 0.0;   // the first step that moved nothing (max_time_s if none)
   bool at_rest = false;
   bool flow_at_rest = false;  // the momentum layer (if any) moved nothing at the end
@@ -82,5 +86,8 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
 
 // The measures of one state (exposed for the tests).
 CollapseFrame measure_collapse(const GranularGrid& grid, const CollapseCase& c, double t_s);
+// The volume in bins a cell wide along the distance from the axis (or the
+// slot's wall), and the cells' area in each when `area_m2` is given.
+std::vector<double> radial_volumes_m3(const GranularGrid& grid, const CollapseCase& c, std::vector<double>* area_m2);
 
 }  // namespace skidsim::terrain

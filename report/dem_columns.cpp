@@ -45,6 +45,21 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir) {
     const std::size_t t = f.column("t_s", front), r = f.column("front_r99_m", front);
     for (const auto& fr : f.rows)
       c.front.emplace_back(fr[t] / std::sqrt(h0 / kGravity_m_s2), (fr[r] - f.rows.front()[r]) / r0);
+    // The deposit's bins (centres r_m, equal widths) hold their thickness
+    // over a ring 2 pi r w wide (a strip in the slot).
+    const fs::path deposit = dir / ("deposit_" + geometry + "_a" + fmt("%g", c.aspect) + ".csv");
+    const CsvNumbers p = read_csv_numbers(deposit);
+    const std::size_t pr = p.column("r_m", deposit), ph = p.column("thickness_m", deposit);
+    if (p.rows.size() < 2) throw std::runtime_error(deposit.string() + ": fewer than two bins");
+    const double w = p.rows[1][pr] - p.rows[0][pr];
+    double total = 0.0;
+    for (const auto& row : p.rows) {
+      c.deposit.outer_over_r0.push_back((row[pr] + 0.5 * w) / r0);
+      c.deposit.share.push_back(row[ph] * (c.slot ? w : 2.0 * kPi * row[pr] * w));
+      total += c.deposit.share.back();
+    }
+    if (!(total > 0.0)) throw std::runtime_error(deposit.string() + ": thickness_m holds no mass");
+    for (double& m : c.deposit.share) m /= total;
     out.push_back(c);
   }
   return out;
@@ -77,6 +92,41 @@ double compared_runout(const DemColumn& dem, const terrain::CollapseRun& run) {
 double column_error(const DemColumn& dem, const terrain::CollapseRun& run) {
   return std::max(std::abs(compared_runout(dem, run) / compared_runout(dem) - 1.0),
                   std::abs(run.final_height_over_r0 / dem.height - 1.0));
+}
+
+double mass_within(const MassProfile& p, double r_over_r0) {
+  double inside = 0.0, inner = 0.0;
+  for (std::size_t k = 0; k < p.share.size(); ++k) {
+    const double outer = p.outer_over_r0[k];
+    if (r_over_r0 >= outer) inside += p.share[k];
+    else if (r_over_r0 > inner) inside += p.share[k] * (r_over_r0 - inner) / (outer - inner);
+    inner = outer;
+  }
+  return inside;
+}
+
+double mass_gap(const MassProfile& a, const MassProfile& b, double* at_over_r0) {
+  // Both shares are linear between the bins' edges: the largest difference
+  // lies on one of them.
+  double gap = 0.0, at = 0.0;
+  for (const MassProfile* p : {&a, &b})
+    for (double r : p->outer_over_r0) {
+      const double g = std::abs(mass_within(a, r) - mass_within(b, r));
+      if (g > gap) gap = g, at = r;
+    }
+  if (at_over_r0) *at_over_r0 = at;
+  return gap;
+}
+
+MassProfile deposit_profile(const terrain::CollapseRun& run) {
+  MassProfile p;
+  double total = 0.0;
+  for (double v : run.deposit_volume_m3) total += v;
+  for (std::size_t k = 0; k < run.deposit_volume_m3.size(); ++k) {
+    p.outer_over_r0.push_back((k + 1) * run.c.cell_m / run.c.r0_m);
+    p.share.push_back(total > 0.0 ? run.deposit_volume_m3[k] / total : 0.0);
+  }
+  return p;
 }
 
 double front_arrival(const std::vector<std::pair<double, double>>& front, double fraction) {

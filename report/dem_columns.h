@@ -16,8 +16,22 @@
 
 namespace skidsim::report::perf {
 
-// One LIGGGHTS column: a row of dem/collapse/results/summary.csv and its
-// front_*.csv. A dropped column's r99 counts the grains its impact scatters
+// Where a deposit's mass lies, from the axis (the slot's back wall) out:
+// each bin's outer edge over r0 and its share of the mass.
+struct MassProfile {
+  std::vector<double> outer_over_r0, share;
+};
+// The share of the mass within r_over_r0 of the axis (the wall), linear
+// within a bin.
+double mass_within(const MassProfile& p, double r_over_r0);
+// How far apart two deposits hold their mass: the largest difference, at
+// any distance from the axis, between the shares of their mass within it
+// (Kolmogorov-Smirnov's distance between the radial distributions; 0 where
+// the mass lies alike), and where (over r0) when `at_over_r0` is given.
+double mass_gap(const MassProfile& a, const MassProfile& b, double* at_over_r0 = nullptr);
+
+// One LIGGGHTS column: a row of dem/collapse/results/summary.csv, its
+// front_*.csv and its deposit_*.csv. A dropped column's r99 counts the grains its impact scatters
 // one by one far out, which no height field holds: compare its edge.
 struct DemColumn {
   bool slot = false;
@@ -34,6 +48,7 @@ struct DemColumn {
   double drop_over_r0 = 0.0;
   double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
   std::vector<std::pair<double, double>> front;  // t / sqrt(H0 / g), (r99 - r99(0)) / r0
+  MassProfile deposit;  // the final deposit's
 };
 
 // The columns of the DEM reference in `dem_dir` (the repository's dem/):
@@ -54,6 +69,9 @@ terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool 
 double compared_runout(const DemColumn& dem);
 double compared_runout(const DemColumn& dem, const terrain::CollapseRun& run);
 double column_error(const DemColumn& dem, const terrain::CollapseRun& run);
+
+// Where the grid's final deposit holds its mass (CollapseRun::deposit_volume_m3).
+MassProfile deposit_profile(const terrain::CollapseRun& run);
 
 // When the front first reaches `fraction` of its final advance, over
 // sqrt(H0 / g); points as DemColumn::front.
