@@ -52,14 +52,19 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir) {
     const std::size_t pr = p.column("r_m", deposit), ph = p.column("thickness_m", deposit);
     if (p.rows.size() < 2) throw std::runtime_error(deposit.string() + ": fewer than two bins");
     const double w = p.rows[1][pr] - p.rows[0][pr];
+    // The bins from the axis out, each w wide: r_m their centres.
+    for (std::size_t k = 0; k < p.rows.size(); ++k)
+      if (!(w > 0.0 && std::abs(p.rows[k][pr] - (k + 0.5) * w) <= 1e-3 * w))
+        throw std::runtime_error(deposit.string() + ": row " + std::to_string(k + 2) + ": r_m " + fmt("%g", p.rows[k][pr]) +
+                                 " is not the centre of bin " + std::to_string(k) + " of width " + fmt("%g", w) + " from the axis");
     double total = 0.0;
-    for (const auto& row : p.rows) {
-      c.deposit.outer_over_r0.push_back((row[pr] + 0.5 * w) / r0);
-      c.deposit.share.push_back(row[ph] * (c.slot ? w : 2.0 * kPi * row[pr] * w));
+    for (const auto& bin : p.rows) {
+      c.deposit.outer_over_r0.push_back((bin[pr] + 0.5 * w) / r0);
+      c.deposit.share.push_back(bin[ph] * (c.slot ? w : 2.0 * kPi * bin[pr] * w));
       total += c.deposit.share.back();
     }
     if (!(total > 0.0)) throw std::runtime_error(deposit.string() + ": thickness_m holds no mass");
-    for (double& m : c.deposit.share) m /= total;
+    for (double& share : c.deposit.share) share /= total;
     out.push_back(c);
   }
   return out;

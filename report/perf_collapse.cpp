@@ -151,7 +151,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       fmt("%.1f", sand.bed_start_angle_deg) + " deg, the DEM's erodible bed); it runs beside the automaton, which keeps the slow avalanches. \"momentum, hydrostatic\" is the same "
       "without raining: the failed mass flows at once. The dropped column (a = 1 let go 4 r0 above the floor, as a "
       "bucket's load dumped from 2 m) falls as parcels (terrain/material_exchange.h) that land with their momentum "
-      "and, with the fast flow, fall through the moving layer to the bed and press on the layer with their impact, "
+      "and, with the fast flow, fall through the moving layer to the bed and press on the layer with their impact (as "
+      "every landing does whose sheet would cross a cell before its friction stops it; all of this one's do), "
       "speeding it up to a stagnation flow's speed, at most the sheet speed " +
       fmt("%.2f", sand.impact_sheet_speed_ratio) + " of their free fall (a DEM granular jet's, dem/calibration/results/impact_summary.csv); "
       "its impact scatters single grains far out in the DEM, which no height field holds, so its run-out is the "

@@ -78,7 +78,8 @@ class MaterialExchange {
   // The ground's fast flow (terrain/momentum_flow.h; not owned, may be
   // null): what lands on the ground joins its flowing layer with the
   // parcel's horizontal velocity (and, where its soil has an impact sheet
-  // speed ratio, falls through that layer to the bed).
+  // speed ratio and the landing presses, MomentumFlow::landing_presses,
+  // falls through that layer to the bed).
   void set_ground_flow(MomentumFlow* flow);
   // Material let go in the air (a load released from a height; the drop
   // experiment): a parcel like those that leave bodies, in the books from

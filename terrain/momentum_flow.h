@@ -46,12 +46,13 @@
 // over-runs tall columns, because a shallow layer turns the whole column's
 // height into horizontal pressure (raining = false keeps it selectable).
 // A landing from a body (land) joins the layer with its horizontal
-// momentum; with the soil's impact_sheet_speed_ratio c it falls through
-// the moving layer to the bed, and its fall presses on the layer (the
-// floor's reaction to its momentum flux, shaped as a stagnation flow's over
-// its footprint) and sends a sheet out at up to c V (a granular jet on a
-// plate; Cheng et al. 2007) where that sheet would cross a cell before its
-// friction stops it; else its fall is lost.
+// momentum; with the soil's impact_sheet_speed_ratio c, where the sheet it
+// sends out at up to c V (a granular jet on a plate; Cheng et al. 2007)
+// would cross a cell before its friction stops it (landing_presses), it
+// falls through the moving layer to the bed and its fall presses on the
+// layer (the floor's reaction to its momentum flux, shaped as a stagnation
+// flow's over its footprint); else it lands on the layer's top and its fall
+// is lost.
 // Material moves by exact integer transfers between cells (the grid's
 // transfer_quanta), so the ledger stays exact; momentum goes with the
 // material that carries it.
