@@ -98,7 +98,6 @@ void MaterialExchange::step() {
 
 void MaterialExchange::set_ground_flow(MomentumFlow* flow) {
   ground_flow_ = flow;
-  through_flowing_layer_ = flow && flow->lands_through_layer();
 }
 
 void MaterialExchange::set_firm_ground_plane(const Eigen::Vector3d& normal, double offset_m) {
@@ -285,7 +284,7 @@ void MaterialExchange::move_parcels() {
         double layer_m = 0.0;
         // (above the surface it falls on; one that will press lands on the
         // bed under the layer, MomentumFlow::landing_presses)
-        if (through_flowing_layer_ && p.position_m.z() <= surface_m && ground_flow_->landing_presses(p.velocity_m_s.z())) {
+        if (ground_flow_ && p.position_m.z() <= surface_m && ground_flow_->landing_presses(p.velocity_m_s.z())) {
           const int cell = ground_->index(gi, gj);
           layer_m = ground_flow_->flowing_m(cell) + ground_flow_->raining_m(cell);
         }

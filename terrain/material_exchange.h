@@ -142,7 +142,6 @@ class MaterialExchange {
 
   GranularGrid* ground_ = nullptr;
   MomentumFlow* ground_flow_ = nullptr;
-  bool through_flowing_layer_ = false;  // ground_flow_->lands_through_layer()
   double dt_s_;
   double cell_size_m_ = 0.0;
   double quantum_mass_kg_ = 0.0;

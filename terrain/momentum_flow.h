@@ -170,9 +170,6 @@ class MomentumFlow {
   double velocity_x_m_s(int cell) const;
   double velocity_y_m_s(int cell) const;
   double flowing_m(int cell) const { return flowing_[cell] * kHeightQuantumM; }
-  // Whether a soil's landings can press at all (it has an impact sheet
-  // speed ratio).
-  bool lands_through_layer() const { return impact_c_ > 0.0; }
   // Whether a landing at vz_m_s presses on the layer: where the sheet it
   // sends out (c V, slowing at mu g on the bed) would cross a cell,
   // (c V)^2 >= 2 mu g d. Such a parcel passes through the flowing layer
