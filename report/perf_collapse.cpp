@@ -143,7 +143,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "freely and lands on a flowing layer without horizontal momentum (raining, Larrieu et al. 2006); the layer "
       "carries velocities on the cells' faces (Savage-Hutter, Coulomb friction on its bed at the soil's flowing "
       "friction, " + fmt("%.1f", sand.flowing_friction_deg()) + " deg, the mu_s of the mu(I) law, rising in "
-      "layers a few grains thick as Pouliquen's law has it, with the grains (and h_stop) scaled with r0; on the "
+      "layers a few grains thick as Pouliquen's law has it, read on the depth the layer moves in (its own over a bed "
+      "that holds, with the bed over one that erodes), with the grains (and h_stop) scaled with r0; on the "
       "bare floor at the floor's, " + fmt("%.2f", dem.front().floor_friction_deg) + " deg; in the slot, also on its side walls at " +
       fmt("%.1f", dem.front().slot_wall_friction_deg) + " deg; all from the DEM's inclined layers, "
       "dem/calibration/chute.in) until friction stops it, eroding, down to the thick layer's flowing friction, what "

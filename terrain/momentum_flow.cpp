@@ -35,7 +35,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
       max_substeps_(params.max_substeps),
       raining_(params.raining),
       erosion_(params.erosion),
-      thin_layer_whole_depth_(params.thin_layer_whole_depth) {
+      layer_depth_(params.layer_depth) {
   const SoilFlowParameters& soil = grid.soil();
   const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.flowing_friction_deg();
   const double start_deg = params.start_friction_deg > 0.0 ? params.start_friction_deg : soil.repose_angle_deg;
@@ -434,12 +434,11 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     const double cross = x ? cross_speed_at_x_face(i, j) : cross_speed_at_y_face(i, j);
     const double f = flowing_[donor] * kHeightQuantumM;
     // A layer with no static soil under it rubs on the hard base; on soil,
-    // the thin-layer law reads the flowing layer's thickness (or, with
-    // thin_layer_whole_depth, the grains' down to the hard base or
-    // compacted soil).
-    const double depth_m = thin_layer_whole_depth_ ? (grid.loose_quanta(donor) - rain_[donor]) * kHeightQuantumM : f;
+    // the thin-layer law reads the depth the layer moves in, and so do the
+    // side walls (Jop et al. 2005: the walls' pressure over that depth).
+    const double depth_m = thin_excess_ > 0.0 || wall_mu_over_gap_ > 0.0 ? layer_depth_m(grid, donor, f) : f;
     const double mu = on_floor(grid, donor, flowing_[donor]) ? floor_mu_ : bed_friction_tan(depth_m);
-    const double speed = std::sqrt(un * un + cross * cross), loss = (mu + wall_mu_over_gap_ * f) * kGravity_m_s2 * dt_s;
+    const double speed = std::sqrt(un * un + cross * cross), loss = (mu + wall_mu_over_gap_ * depth_m) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };
   new_x_.resize(x_faces_.size());

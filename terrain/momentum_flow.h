@@ -13,7 +13,8 @@
 // Coulomb friction mu on the bed: the soil's flowing friction, the mu_s of
 // the mu(I) law (Pouliquen 1999, Jop et al. 2006: the angle at which a
 // thick flow stops; terrain/flow_law.h), rising in layers a few grains
-// thick by Pouliquen's thin-layer law, or on a bare hard base the floor's.
+// thick by Pouliquen's thin-layer law (read on the depth the layer moves
+// in: layer_depth), or on a bare hard base the floor's.
 // Advection is Stelling and Duinmeijer's (2003) momentum-conserving upwind
 // form with its cross terms: a face's velocity mixes with what arrives at
 // its donor cell from any side, so a layer moving diagonally keeps both
@@ -115,16 +116,22 @@ struct MomentumFlowParameters {
   // flow event laid down and a bed past that angle (docs/fast_flows.md);
   // false: the core holds the repose angle under moving layers too.
   bool erosion = true;
-  // The thickness the thin-layer law (Pouliquen 1999) reads. false (the
-  // default): the flowing layer's. A thin layer set moving on a deep bed of
-  // its own grains at rest slows at the friction of its own thickness and
-  // stops, the bed under it at rest (the DEM's erodible bed,
-  // dem/calibration/erodible.in: 0.63-0.65 at 4 grains, 26 and 28 deg,
-  // against the chute's 0.60 at 4 grains). true: the grains' whole depth
-  // above the hard base or compacted soil, static and flowing, as a single
-  // layer models an erodible bed (Edwards and Gray 2015); it would give
-  // that layer 0.45 and run it on; kept selectable (docs/fast_flows.md).
-  bool thin_layer_whole_depth = false;
+  // The depth of grains a moving layer moves in, which the thin-layer law
+  // (Pouliquen 1999) and the side walls read (docs/fast_flows.md, "Which
+  // depth the layer moves in").
+  //   kMobile (the default): the flowing layer and the bed under it that
+  //     erosion may take: what the flow event laid down, and the whole loose
+  //     depth where the bed the event found stands past the bed's start
+  //     angle (or, with no start angle, wherever erosion cuts). A thin layer
+  //     on a deep bed at rest below its start angle so slows at the friction
+  //     of its own thickness and stops, the bed at rest (the DEM's erodible
+  //     bed, dem/calibration/erodible.in); a collapsing column's layer moves
+  //     with the bed it erodes (Edwards and Gray 2015 on erodible beds).
+  //   kFlowing: the flowing layer's alone, wherever it runs.
+  //   kWhole: the grains' whole loose depth, static and flowing, as a single
+  //     layer models an erodible bed (Edwards and Gray 2015), everywhere.
+  enum class LayerDepth { kMobile, kFlowing, kWhole };
+  LayerDepth layer_depth = LayerDepth::kMobile;
   // Failed material falls freely and lands without horizontal momentum
   // (Larrieu et al. 2006); false: it joins the flowing layer at once.
   bool raining = true;
@@ -190,8 +197,7 @@ class MomentumFlow {
   bool pressing() const { return !impacted_.empty(); }   // a landing's pressure has not ended yet
   double bed_friction_tan() const { return mu_; }
   // The bed friction of a layer h_m thick (the soil's thin-layer law; h_m
-  // the flowing layer's thickness or the grains' whole depth,
-  // thin_layer_whole_depth).
+  // the depth the layer moves in, layer_depth_m).
   double bed_friction_tan(double h_m) const { return thin_excess_ > 0.0 ? mu_ + thin_excess_ * std::exp(-h_m * inv_decay_m_) : mu_; }
   double floor_friction_tan() const { return floor_mu_ >= 0.0 ? floor_mu_ : mu_; }
   double start_friction_tan() const { return mu_start_; }
@@ -237,6 +243,9 @@ class MomentumFlow {
   // Whether that bed stands steeper than the bed's start angle above a side
   // neighbour's.
   bool bed_past_start(const GranularGrid& grid, int cell) const;
+  // The depth (m) the cell's moving layer, `flowing_m` thick, moves in
+  // (MomentumFlowParameters::layer_depth).
+  double layer_depth_m(const GranularGrid& grid, int cell, double flowing_m) const;
   // Whether the cell's layer, `flowing` quanta, rubs on a floor of its own
   // (floor_friction_deg set, no static soil under the layer).
   bool on_floor(const GranularGrid& grid, int cell, std::int64_t flowing) const {
@@ -274,7 +283,8 @@ class MomentumFlow {
   double mu_ = 0.0, bed_start_tan_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0, pressed_steps_ = 0;
-  bool raining_ = true, erosion_ = true, thin_layer_whole_depth_ = false;
+  bool raining_ = true, erosion_ = true;
+  MomentumFlowParameters::LayerDepth layer_depth_ = MomentumFlowParameters::LayerDepth::kMobile;
   // The landings' impact (land): the sheet speed ratio c; per cell the
   // landed thickness times its fall speed since the last step (m^2/s: the
   // impulse per area over rho) and the landed thickness (m); the pressure

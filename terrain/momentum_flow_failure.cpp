@@ -77,6 +77,17 @@ bool MomentumFlow::bed_past_start(const GranularGrid& grid, int cell) const {
   return false;
 }
 
+double MomentumFlow::layer_depth_m(const GranularGrid& grid, int cell, double flowing_m) const {
+  using Depth = MomentumFlowParameters::LayerDepth;
+  if (layer_depth_ == Depth::kFlowing || (layer_depth_ == Depth::kMobile && !erosion_)) return flowing_m;
+  // The loose grains under the layer (compacted soil bears it as the hard base does).
+  const double loose_bed_m = std::max(0.0, static_cast<double>(grid.loose_quanta(cell) - rain_[cell]) * kHeightQuantumM - flowing_m);
+  if (layer_depth_ == Depth::kWhole || !(bed_start_tan_ > 0.0) || bed_past_start(grid, cell)) return flowing_m + loose_bed_m;
+  // What the event laid on the bed it found (fail's erosion floor).
+  const double laid_m = std::isnan(event_bed_m_[cell]) ? 0.0 : bed_m(grid, cell) - event_bed_m_[cell];
+  return flowing_m + std::clamp(laid_m, 0.0, loose_bed_m);
+}
+
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // Failure: the examined cells' stable core is the highest surface under
   // the terrain whose slope nowhere exceeds the start angle (the repose

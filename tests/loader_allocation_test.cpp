@@ -148,6 +148,7 @@ TEST(LoaderAllocation, ALandingsImpactAllocatesNothingOnceWarm) {
   terrain::SoilFlowParameters soil = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   ASSERT_GT(soil.impact_sheet_speed_ratio, 0.0);
   terrain::GranularGrid g(spec, soil, 0.002, 100000);
+  g.reserve_active_cells(static_cast<std::size_t>(spec.nx * spec.ny));  // as the World sizes its grids
   terrain::MomentumFlow flow(g, terrain::MomentumFlowParameters{}, 0.002);
   flow.reserve_cells(static_cast<std::size_t>(spec.nx * spec.ny));
   terrain::MaterialExchange ex(&g, 0.002);

@@ -262,10 +262,14 @@ TEST(MomentumFlow, ASlabOnTheBareFloorSlidesAsACoulombBlockAtTheFloorsFriction) 
 
 // The thin-layer law (Pouliquen 1999) on a deep bed: a slab 5 cm thick (six
 // of dem_sand's 8 mm grains) sent at v0 over a level bed slides as a
-// Coulomb block at the stop angle of the thickness the law reads: its own
-// (the default; the DEM's erodible bed, tests/dem_collapse_reference_test),
-// or with thin_layer_whole_depth the grains' whole depth, theta_1 on a bed
-// 0.5 m deep and a rougher angle on a bed 5 cm deep (0.10 m of grains).
+// Coulomb block at the stop angle of the depth the layer moves in
+// (MomentumFlowParameters::layer_depth): by default its own where the bed
+// at rest stands below the soil's bed start angle (the DEM's erodible bed,
+// tests/dem_collapse_reference_test) and the grains' whole depth where the
+// soil has no start angle (every bed under a layer erodes); read always on
+// the layer alone (kFlowing) or on the whole depth (kWhole) as asked:
+// theta_1 on a bed 0.5 m deep and a rougher angle on a bed 5 cm deep (0.10 m
+// of grains).
 SoilFlowParameters thin_layer_sand() {
   SoilFlowParameters soil = pile_angled_sand();
   soil.flowing_friction_angle_deg = 23.74;  // dem_sand's (assets/soils.xml)
@@ -275,23 +279,30 @@ SoilFlowParameters thin_layer_sand() {
   return soil;
 }
 
-TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheThicknessTheLawReads) {
+TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheDepthItMovesIn) {
+  using Depth = MomentumFlowParameters::LayerDepth;
   const double v0 = 2.0;
-  const SoilFlowParameters soil = thin_layer_sand();
+  SoilFlowParameters soil = thin_layer_sand(), held = thin_layer_sand();
+  held.bed_start_angle_deg = 28.5;  // dem_sand's
   const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
   const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
   const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
   // Pouliquen (1999) at depth h, and the block's slide at it.
   auto block_m = [&](double h_m) { return v0 * v0 / (2.0 * kGravity_m_s2 * (tan1 + (tan2 - tan1) * std::exp(-h_m / decay_m))); };
   for (double bed_m : {0.5, 0.05}) {
-    MomentumFlowParameters layer, whole;
-    whole.thin_layer_whole_depth = true;
+    MomentumFlowParameters mobile, layer, whole;
+    layer.layer_depth = Depth::kFlowing;
+    whole.layer_depth = Depth::kWhole;
+    const double own = block_m(0.05), deep = block_m(bed_m + 0.05);
     const double slid = slab_slide_m(layer, v0, soil, bed_m), slid_whole = slab_slide_m(whole, v0, soil, bed_m);
-    std::printf("[ measured ] a 5 cm slab at %.0f m/s on a %.2f m bed slid %.3f m (Coulomb block at the stop angle of "
-                "its own 5 cm %.3f m); reading the whole depth %.3f m (block %.3f m)\n",
-                v0, bed_m, slid, block_m(0.05), slid_whole, block_m(bed_m + 0.05));
-    EXPECT_NEAR(slid, block_m(0.05), 0.03 * block_m(0.05)) << bed_m;
-    EXPECT_NEAR(slid_whole, block_m(bed_m + 0.05), 0.03 * block_m(bed_m + 0.05)) << bed_m;
+    const double slid_held = slab_slide_m(mobile, v0, held, bed_m), slid_free = slab_slide_m(mobile, v0, soil, bed_m);
+    std::printf("[ measured ] a 5 cm slab at %.0f m/s on a %.2f m bed slid %.3f m on its own 5 cm (Coulomb block at that "
+                "stop angle %.3f m), %.3f m on the whole depth (block %.3f m); by default %.3f m on a bed below its start "
+                "angle, %.3f m with none\n", v0, bed_m, slid, own, slid_whole, deep, slid_held, slid_free);
+    EXPECT_NEAR(slid, own, 0.03 * own) << bed_m;
+    EXPECT_NEAR(slid_whole, deep, 0.03 * deep) << bed_m;
+    EXPECT_NEAR(slid_held, own, 0.03 * own) << bed_m;
+    EXPECT_NEAR(slid_free, deep, 0.03 * deep) << bed_m;
   }
 }
 
