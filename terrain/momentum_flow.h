@@ -105,7 +105,8 @@ struct MomentumFlowParameters {
   bool study_past_bound = false;
   // A channel's side walls, gap_m apart along the grid's y (0: none): the
   // layer rubs on both with Coulomb friction tan(delta_w) under its
-  // hydrostatic side pressure, a deceleration tan(delta_w) g f / gap (Jop,
+  // hydrostatic side pressure, a deceleration tan(delta_w) g h / gap, h the
+  // depth the layer moves in (layer_depth) (Jop,
   // Forterre and Pouliquen 2005, "Crucial role of sidewalls in granular
   // surface flows", J. Fluid Mech. 541).
   double side_wall_gap_m = 0.0;
@@ -122,7 +123,8 @@ struct MomentumFlowParameters {
   //   kMobile (the default): the flowing layer and the bed under it that
   //     erosion may take: what the flow event laid down, and the whole loose
   //     depth where the bed the event found stands past the bed's start
-  //     angle (or, with no start angle, wherever erosion cuts). A thin layer
+  //     angle (or, with no start angle, wherever a layer moves: kWhole's
+  //     depth, every bed under a layer eroding). A thin layer
   //     on a deep bed at rest below its start angle so slows at the friction
   //     of its own thickness and stops, the bed at rest (the DEM's erodible
   //     bed, dem/calibration/erodible.in); a collapsing column's layer moves

@@ -3,7 +3,9 @@
 // that never rises above its dam within the stability bound and does past
 // it, exact books and bit-for-bit repeats of a collapse, a slab sliding as
 // a Coulomb block on the bare base and on a deep bed (the thin-layer law on
-// the layer's own thickness, or optionally the grains' whole depth), erosion, the bound refused past its limit, and
+// the depth the layer moves in: its own over a bed below its start angle,
+// the whole depth with none; or either as asked), erosion, the bound refused
+// past its limit, and
 // a terrain at rest costing nothing.
 #include <gtest/gtest.h>
 
