@@ -308,6 +308,65 @@ TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheDepthItMovesIn) {
   }
 }
 
+// What a flow event laid down moves with the layer over it: a 5 cm deposit
+// landed at rest on the bed lies down while a slab far off keeps the event
+// going; the slab then sent over the deposit at v0 slides as the Coulomb
+// block at the stop angle of its 5 cm and the deposit's 5 cm together (by
+// default), of its own 5 cm alone with kFlowing.
+double slab_over_a_deposit_m(MomentumFlowParameters::LayerDepth depth, const SoilFlowParameters& soil, double v0_m_s) {
+  const GridSpec spec = strip(240);
+  const double bed_m = 0.5, layer_m = 0.05;
+  GranularGrid g(spec, soil, 0.002, 100000);
+  for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, bed_m);
+  MomentumFlowParameters p;
+  p.layer_depth = depth;
+  MomentumFlow flow(g, p, 0.002);
+  const std::int64_t layer = std::llround(layer_m / kHeightQuantumM);
+  auto land_at = [&](int from, int to, double v) {
+    for (int i = from; i < to; ++i) {
+      g.add_material_m3(i, 0, layer_m * spec.cell_size_m * spec.cell_size_m);
+      flow.land(g, g.index(i, 0), layer, v, 0.0);
+    }
+  };
+  land_at(10, 130, 0.0);     // the deposit, at rest
+  land_at(200, 220, v0_m_s);  // the slab that keeps the event going
+  for (int s = 0; s < 5; ++s) flow.step(g);
+  EXPECT_EQ(flow.flowing_m(g.index(60, 0)), 0.0);  // the deposit lay down
+  EXPECT_GT(flow.moving_cells(), 0u);              // the event goes on
+  auto centre_m = [&] {  // of what stands above the deposit, short of the keeper
+    double m = 0.0, mx = 0.0;
+    for (int i = 0; i < 180; ++i) {
+      const double above = std::max(0.0, g.material_m(i, 0) - bed_m - layer_m);
+      m += above, mx += above * i * spec.cell_size_m;
+    }
+    return mx / m;
+  };
+  land_at(20, 40, v0_m_s);
+  const double x0 = centre_m();
+  for (int s = 0; s < 5000 && flow.moving_cells() > 0; ++s) flow.step(g);
+  EXPECT_EQ(flow.moving_cells(), 0u);
+  EXPECT_TRUE(g.ledger().balanced());
+  return centre_m() - x0;
+}
+
+TEST(MomentumFlow, WhatTheEventLaidDownMovesWithTheLayerOverIt) {
+  using Depth = MomentumFlowParameters::LayerDepth;
+  const double v0 = 2.0;
+  SoilFlowParameters soil = thin_layer_sand();
+  soil.bed_start_angle_deg = 28.5;  // dem_sand's: the bed under the deposit holds
+  const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
+  const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
+  const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
+  auto block_m = [&](double h_m) { return v0 * v0 / (2.0 * kGravity_m_s2 * (tan1 + (tan2 - tan1) * std::exp(-h_m / decay_m))); };
+  const double mobile = slab_over_a_deposit_m(Depth::kMobile, soil, v0);
+  const double flowing = slab_over_a_deposit_m(Depth::kFlowing, soil, v0);
+  std::printf("[ measured ] a 5 cm slab at %.0f m/s over a 5 cm deposit the event laid down slid %.3f m (block at the "
+              "stop angle of 10 cm %.3f m); on its own 5 cm %.3f m (block %.3f m)\n",
+              v0, mobile, block_m(0.10), flowing, block_m(0.05));
+  EXPECT_NEAR(mobile, block_m(0.10), 0.03 * block_m(0.10));
+  EXPECT_NEAR(flowing, block_m(0.05), 0.03 * block_m(0.05));
+}
+
 // A landing's impact (the soil's impact_sheet_speed_ratio c): a dense stream
 // 0.25 m wide lands on a level bed at V = 4 m/s, as thick per second as it
 // falls (w = V), for 0.1 s. Its pressure sends a sheet out to either side
