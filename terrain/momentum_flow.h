@@ -245,8 +245,11 @@ class MomentumFlow {
   // Whether that bed stands steeper than the bed's start angle above a side
   // neighbour's.
   bool bed_past_start(const GranularGrid& grid, int cell) const;
+  // How low erosion may cut under the cell's layer (m; -inf: anywhere),
+  // with a bed start angle or without (fail's floor).
+  double erosion_floor_m(const GranularGrid& grid, int cell) const;
   // The depth (m) the cell's moving layer, `flowing_m` thick, moves in
-  // (MomentumFlowParameters::layer_depth).
+  // (MomentumFlowParameters::layer_depth): down to the erosion's floor.
   double layer_depth_m(const GranularGrid& grid, int cell, double flowing_m) const;
   // Whether the cell's layer, `flowing` quanta, rubs on a floor of its own
   // (floor_friction_deg set, no static soil under the layer).

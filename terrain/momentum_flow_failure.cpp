@@ -77,15 +77,22 @@ bool MomentumFlow::bed_past_start(const GranularGrid& grid, int cell) const {
   return false;
 }
 
+double MomentumFlow::erosion_floor_m(const GranularGrid& grid, int cell) const {
+  // Anywhere where the bed stands past its start angle (or the soil has
+  // none); else down to the bed the event found (what the flow laid on it
+  // goes) or as low as it has been cut (a NaN found bed, outside an event:
+  // the bed itself).
+  if (!(bed_start_tan_ > 0.0) || bed_past_start(grid, cell)) return -std::numeric_limits<double>::infinity();
+  return std::min(bed_m(grid, cell), event_bed_m_[cell]);
+}
+
 double MomentumFlow::layer_depth_m(const GranularGrid& grid, int cell, double flowing_m) const {
   using Depth = MomentumFlowParameters::LayerDepth;
   if (layer_depth_ == Depth::kFlowing || (layer_depth_ == Depth::kMobile && !erosion_)) return flowing_m;
   // The loose grains under the layer (compacted soil bears it as the hard base does).
   const double loose_bed_m = std::max(0.0, static_cast<double>(grid.loose_quanta(cell) - rain_[cell]) * kHeightQuantumM - flowing_m);
-  if (layer_depth_ == Depth::kWhole || !(bed_start_tan_ > 0.0) || bed_past_start(grid, cell)) return flowing_m + loose_bed_m;
-  // What the event laid on the bed it found (fail's erosion floor).
-  const double laid_m = std::isnan(event_bed_m_[cell]) ? 0.0 : bed_m(grid, cell) - event_bed_m_[cell];
-  return flowing_m + std::clamp(laid_m, 0.0, loose_bed_m);
+  if (layer_depth_ == Depth::kWhole) return flowing_m + loose_bed_m;
+  return flowing_m + std::clamp(bed_m(grid, cell) - erosion_floor_m(grid, cell), 0.0, loose_bed_m);
 }
 
 void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
@@ -126,12 +133,9 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
       event_bed_m_[c] = bed;
       in_event_.push_back(c);
     }
-    // How low erosion may cut: anywhere where the bed stands past its start
-    // angle; else down to the bed the event found (what the flow laid on it
-    // goes) or as low as it has been cut. (Judged on the found bed as the
-    // last pass left it: on a cell's first sub-step, before its failure.)
-    bed_floor_m_[n] = !erodes || bed_past_start(grid, c) ? -std::numeric_limits<double>::infinity()
-                                                         : std::min(bed, event_bed_m_[c]);
+    // How low erosion may cut (judged on the found bed as the last pass left
+    // it: on a cell's first sub-step, before its failure).
+    bed_floor_m_[n] = erodes ? erosion_floor_m(grid, c) : -std::numeric_limits<double>::infinity();
   }
   relax_core(grid);
   // The new layers go to layer_ first, the faces' new momentum to keep_:

@@ -281,16 +281,22 @@ SoilFlowParameters thin_layer_sand() {
   return soil;
 }
 
+// How far a Coulomb block sent at v0 slides at the stop angle of a layer
+// h_m deep by Pouliquen's (1999) thin-layer law, evaluated apart from the
+// flow: v0^2 / (2 g tan theta_stop(h)).
+double pouliquen_block_m(const SoilFlowParameters& soil, double v0_m_s, double h_m) {
+  const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
+  const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
+  const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
+  return v0_m_s * v0_m_s / (2.0 * kGravity_m_s2 * (tan1 + (tan2 - tan1) * std::exp(-h_m / decay_m)));
+}
+
 TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheDepthItMovesIn) {
   using Depth = MomentumFlowParameters::LayerDepth;
   const double v0 = 2.0;
   SoilFlowParameters soil = thin_layer_sand(), held = thin_layer_sand();
   held.bed_start_angle_deg = 28.5;  // dem_sand's
-  const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
-  const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
-  const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
-  // Pouliquen (1999) at depth h, and the block's slide at it.
-  auto block_m = [&](double h_m) { return v0 * v0 / (2.0 * kGravity_m_s2 * (tan1 + (tan2 - tan1) * std::exp(-h_m / decay_m))); };
+  auto block_m = [&](double h_m) { return pouliquen_block_m(soil, v0, h_m); };
   for (double bed_m : {0.5, 0.05}) {
     MomentumFlowParameters mobile, layer, whole;
     layer.layer_depth = Depth::kFlowing;
@@ -354,10 +360,7 @@ TEST(MomentumFlow, WhatTheEventLaidDownMovesWithTheLayerOverIt) {
   const double v0 = 2.0;
   SoilFlowParameters soil = thin_layer_sand();
   soil.bed_start_angle_deg = 28.5;  // dem_sand's: the bed under the deposit holds
-  const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
-  const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
-  const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
-  auto block_m = [&](double h_m) { return v0 * v0 / (2.0 * kGravity_m_s2 * (tan1 + (tan2 - tan1) * std::exp(-h_m / decay_m))); };
+  auto block_m = [&](double h_m) { return pouliquen_block_m(soil, v0, h_m); };
   const double mobile = slab_over_a_deposit_m(Depth::kMobile, soil, v0);
   const double flowing = slab_over_a_deposit_m(Depth::kFlowing, soil, v0);
   std::printf("[ measured ] a 5 cm slab at %.0f m/s over a 5 cm deposit the event laid down slid %.3f m (block at the "
