@@ -11,8 +11,8 @@ namespace skidsim::report::perf {
 
 namespace fs = std::filesystem;
 
-std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir) {
-  const fs::path dir = dem_dir / "collapse" / "results";
+std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::string& results) {
+  const fs::path dir = dem_dir / "collapse" / results;
   const fs::path material = dem_dir / "calibration" / "material.csv";
   const std::map<std::string, double> m = read_csv_quantities(material);
   auto quantity = [&](const std::string& name) {

@@ -41,7 +41,7 @@ struct DemColumn {
   // never from the columns: the floor's stop angle (deg) and the walls'
   // friction angle (deg).
   double floor_friction_deg = 0.0, slot_wall_friction_deg = 0.0;
-  // The grains' diameter over r0 (0.008 m / 0.1 m): a thin layer's friction
+  // The grains' diameter over r0 (0.008 m / 0.1 m, or / 0.2 m): a thin layer's friction
   // depends on its thickness in grains, which the grid's column keeps.
   double grain_diameter_over_r0 = 0.0;
   // A column let go this far (over r0) above the floor (0: standing on it).
@@ -52,9 +52,10 @@ struct DemColumn {
 };
 
 // The columns of the DEM reference in `dem_dir` (the repository's dem/):
-// collapse/results and calibration/material.csv. Throws std::runtime_error
-// naming the file and column or quantity when one is missing.
-std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dem_dir);
+// collapse/`results` and calibration/material.csv (results_r0_0.2: the same
+// grains in a tube twice as wide). Throws std::runtime_error naming the file
+// and column or quantity when one is missing.
+std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dem_dir, const std::string& results = "results");
 
 std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "dropped 4 r0, a = 1"
 // The DEM column's case on the grid at `cell_m`: the fast flow on when

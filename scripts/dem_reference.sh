@@ -14,7 +14,7 @@
 #   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
 #
-# Takes about three and a half hours on one core (see dem/results_meta.csv). Never run in CI.
+# Takes about three and three-quarter hours on one core (see dem/results_meta.csv). Never run in CI.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -277,6 +277,11 @@ COLLAPSE_SLOT_ASPECT=2
 # the floor, as a bucket's load (about 0.5 m across and high) is dumped from 2 m.
 COLLAPSE_DROP_ASPECT=1
 COLLAPSE_DROP_M=0.4
+# The same grains in a tube twice as wide (r0 = 0.2 m, 25 grains per radius) at aspect ratios
+# COLLAPSE_WIDE_ASPECTS: how the columns depend on r0 / d (the thin-layer law's grain scale)
+# and how the DEM's fringe of single grains beyond the edge scales (dem/collapse/results_r0_0.2).
+COLLAPSE_WIDE_R0=0.2
+COLLAPSE_WIDE_ASPECTS=(0.5 1)
 stage_collapse() {
   local a c="$DEM/collapse"
   mkdir -p "$SCRATCH/collapse"
@@ -290,6 +295,12 @@ stage_collapse() {
   throttle
   run_deck "collapse_drop_a$COLLAPSE_DROP_ASPECT" "$c" column.in -var a "$COLLAPSE_DROP_ASPECT" \
     -var drop "$COLLAPSE_DROP_M" -var out "$(rel "$SCRATCH/collapse" "$c")" &
+  mkdir -p "$SCRATCH/collapse_wide"
+  for a in "${COLLAPSE_WIDE_ASPECTS[@]}"; do
+    throttle
+    run_deck "collapse_wide_tube_a$a" "$c" column.in -var a "$a" -var slot 0 -var r0 "$COLLAPSE_WIDE_R0" -var tend 1.4 \
+      -var out "$(rel "$SCRATCH/collapse_wide" "$c")" &
+  done
 }
 
 # The collapses' fronts against time and final deposits.
@@ -297,6 +308,8 @@ stage_collapse_post() {
   wait_ok
   mkdir -p "$DEM/collapse/results"
   "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse" "$DEM/collapse/results"
+  mkdir -p "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0"
+  "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse_wide" "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0"
   write_meta
 }
 
