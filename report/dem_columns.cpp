@@ -89,6 +89,12 @@ terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool 
   return c;
 }
 
+terrain::CollapseCase wide_tube_case(const DemColumn& dem, double cell_m) {
+  terrain::CollapseCase c = dem_column_case(dem, cell_m, true, true);
+  c.max_time_s = 60.0 * std::sqrt(dem.aspect * c.r0_m / kGravity_m_s2);
+  return c;
+}
+
 double compared_runout(const DemColumn& dem) { return dem.drop_over_r0 > 0.0 ? dem.edge_runout : dem.runout; }
 double compared_runout(const DemColumn& dem, const terrain::CollapseRun& run) {
   return dem.drop_over_r0 > 0.0 ? run.edge_runout_over_r0 : run.runout_over_r0;

@@ -63,6 +63,10 @@ std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "
 // the core at the repose angle, raining) unless `raining` is false, on the
 // deck's floor and, in the slot, between its walls (DemColumn).
 terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining);
+// A column of the tube twice as wide (collapse/results_r0_0.2): the fast
+// flow, raining, run for up to 60 sqrt(H0 / g) (a = 0.5's flank trickles
+// on to 43 at 5 cm, past the default 40).
+terrain::CollapseCase wide_tube_case(const DemColumn& dem, double cell_m);
 
 // The run-out compared: r99's, or for a dropped column its edge's (its
 // impact scatters single grains far out, DemColumn); and the worst of the
