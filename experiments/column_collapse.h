@@ -8,9 +8,12 @@
 // closed wall at x = 0, one row of cells wide, released along +x. The DEM's
 // column is lab-sized (r0 = 0.1 m, 8 mm grains); the grid's is scaled to
 // r0 = 1 m so that sessions' cells (5 and 10 cm) are 20 and 10 per radius.
-// Collapses of cohesionless grains are scale-free in these variables
+// Collapses of cohesionless grains are near scale-free in these variables
 // (Lajeunesse et al. 2004, Lube et al. 2004): the run-out and height depend
-// on a and the material's friction, not on r0.
+// on a and the material's friction, and on r0 / d (Warnett et al. 2014),
+// which the fast flow keeps by scaling its grains with r0
+// (MomentumFlowParameters::grain_diameter_m). The automaton's rolling-layer
+// flux is not scaled (docs/fast_flows.md).
 #pragma once
 
 #include <vector>
