@@ -52,10 +52,13 @@ struct DemColumn {
 };
 
 // The columns of the DEM reference in `dem_dir` (the repository's dem/):
-// collapse/`results` and calibration/material.csv (results_r0_0.2: the same
-// grains in a tube twice as wide). Throws std::runtime_error naming the file
-// and column or quantity when one is missing.
+// collapse/`results` and calibration/material.csv (kWideTubeResults: the
+// same grains in a tube twice as wide). Throws std::runtime_error naming the
+// file and column or quantity when one is missing.
 std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dem_dir, const std::string& results = "results");
+// The tube twice as wide (r0 = 0.2 m, 25 grains per radius;
+// scripts/dem_reference.sh, COLLAPSE_WIDE_R0_M).
+inline constexpr const char* kWideTubeResults = "results_r0_0.2";
 
 std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "dropped 4 r0, a = 1"
 // The DEM column's case on the grid at `cell_m`: the fast flow on when
@@ -63,9 +66,9 @@ std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "
 // the core at the repose angle, raining) unless `raining` is false, on the
 // deck's floor and, in the slot, between its walls (DemColumn).
 terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining);
-// A column of the tube twice as wide (collapse/results_r0_0.2): the fast
-// flow, raining, run for up to 60 sqrt(H0 / g) (a = 0.5's flank trickles
-// on to 43 at 5 cm, past the default 40).
+// A column of the tube twice as wide (kWideTubeResults): the fast flow,
+// raining, run for up to 60 sqrt(H0 / g) (a = 0.5's flank trickles on past
+// the default 40 at 5 cm).
 terrain::CollapseCase wide_tube_case(const DemColumn& dem, double cell_m);
 
 // The run-out compared: r99's, or for a dropped column its edge's (its

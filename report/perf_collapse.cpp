@@ -118,7 +118,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   // model's dependence on r0 / d against the DEM's.
   std::string wide_rows;
   const std::vector<double> wide_cells = ctx.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.05, 0.025};
-  for (const DemColumn& d : read_dem_columns(root / "dem", "results_r0_0.2")) {
+  for (const DemColumn& d : read_dem_columns(root / "dem", kWideTubeResults)) {
     wide_rows += "| " + column_name(d) + " | " + fmt("%.2f", d.runout) + " / " + fmt("%.2f", d.edge_runout) + " / " +
                  fmt("%.2f", d.height) + " / " + fmt("%.1f", front_arrival(d.front, 0.9));
     for (double cell : wide_cells) {
@@ -182,8 +182,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "DEM's scattered grains included). Each cell: run-out / height / t90 / mass gap.\n\n" +
       header + "\n" + rule + "\n" + rows + "\n"
       "The same grains in a tube twice as wide (r0 = 0.2 m, 25 grains per radius; dem/collapse/results_r0_0.2), the "
-      "model's grains 0.04 r0. The DEM's r99 and deposit barely change from 12.5 to 25 grains per radius; its edge "
-      "(a quarter grain thick: 0.02 r0, then 0.01 r0) moves out to r99. Each cell: r99 / edge / height / t90.\n\n" +
+      "model's grains 0.04 r0. The DEM's r99 barely changes from 12.5 to 25 grains per radius; its edge (a quarter "
+      "grain thick: 0.02 r0, then 0.01 r0) moves out to r99. Each cell: r99 / edge / height / t90.\n\n" +
       wide_header + "\n" + wide_rule + "\n" + wide_rows + "\n" + table(rungs, "worst relative error (run-out, height)", kCostPerSimulatedSecond, "model, cells") +
       "\n![" + runout_svg + "](" + runout_svg + ") ![" + height_svg + "](" + height_svg + ")\n\n![" + front_svg + "](" +
       front_svg + ") ![" + error_svg + "](" + error_svg + ")\n";

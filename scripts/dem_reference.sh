@@ -278,9 +278,11 @@ COLLAPSE_SLOT_ASPECT=2
 COLLAPSE_DROP_ASPECT=1
 COLLAPSE_DROP_M=0.4
 # The same grains in a tube twice as wide (r0 = 0.2 m, 25 grains per radius) at aspect ratios
-# COLLAPSE_WIDE_ASPECTS: how the columns depend on r0 / d (the thin-layer law's grain scale)
-# and how the DEM's fringe of single grains beyond the edge scales (dem/collapse/results_r0_0.2).
-COLLAPSE_WIDE_R0=0.2
+# COLLAPSE_WIDE_ASPECTS, for COLLAPSE_WIDE_TEND_S of collapse: how the columns depend on r0 / d
+# (the thin-layer law's grain scale) and how the deposit's toe beyond the edge scales
+# (dem/collapse/results_r0_0.2; report/dem_columns.h, kWideTubeResults).
+COLLAPSE_WIDE_R0_M=0.2
+COLLAPSE_WIDE_TEND_S=1.4
 COLLAPSE_WIDE_ASPECTS=(0.5 1)
 stage_collapse() {
   local a c="$DEM/collapse"
@@ -298,7 +300,7 @@ stage_collapse() {
   mkdir -p "$SCRATCH/collapse_wide"
   for a in "${COLLAPSE_WIDE_ASPECTS[@]}"; do
     throttle
-    run_deck "collapse_wide_tube_a$a" "$c" column.in -var a "$a" -var slot 0 -var r0 "$COLLAPSE_WIDE_R0" -var tend 1.4 \
+    run_deck "collapse_wide_tube_a$a" "$c" column.in -var a "$a" -var slot 0 -var r0 "$COLLAPSE_WIDE_R0_M" -var tend "$COLLAPSE_WIDE_TEND_S" \
       -var out "$(rel "$SCRATCH/collapse_wide" "$c")" &
   done
 }
@@ -308,8 +310,8 @@ stage_collapse_post() {
   wait_ok
   mkdir -p "$DEM/collapse/results"
   "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse" "$DEM/collapse/results"
-  mkdir -p "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0"
-  "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse_wide" "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0"
+  mkdir -p "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0_M"
+  "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse_wide" "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0_M"
   write_meta
 }
 
