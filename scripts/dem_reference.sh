@@ -14,7 +14,7 @@
 #   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
 #
-# Takes about three and three-quarter hours on one core (see dem/results_meta.csv). Never run in CI.
+# Takes about four and a quarter hours on one core (see dem/results_meta.csv). Never run in CI.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -283,7 +283,7 @@ COLLAPSE_DROP_M=0.4
 # (dem/collapse/results_r0_0.2; report/dem_columns.h, kWideTubeResults).
 COLLAPSE_WIDE_R0_M=0.2
 COLLAPSE_WIDE_TEND_S=1.4
-COLLAPSE_WIDE_ASPECTS=(0.5 1)
+COLLAPSE_WIDE_ASPECTS=(0.5 1 2)
 stage_collapse() {
   local a c="$DEM/collapse"
   mkdir -p "$SCRATCH/collapse"
