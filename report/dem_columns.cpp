@@ -157,4 +157,15 @@ std::vector<std::pair<double, double>> scaled_front(const terrain::CollapseRun& 
   return out;
 }
 
+std::vector<DemFedHeap> read_dem_fed_heap(const fs::path& dem_dir) {
+  const fs::path path = dem_dir / "calibration" / "results" / "fed_heap_summary.csv";
+  const CsvNumbers csv = read_csv_numbers(path);
+  std::vector<DemFedHeap> out;
+  for (const auto& row : csv.rows)
+    out.push_back({row[csv.column("Q_m2_s", path)], row[csv.column("tan_mean", path)], row[csv.column("tan_p05", path)],
+                   row[csv.column("tan_p95", path)]});
+  if (out.empty()) throw std::runtime_error(path.string() + ": no runs");
+  return out;
+}
+
 }  // namespace skidsim::report::perf

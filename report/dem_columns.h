@@ -86,4 +86,15 @@ MassProfile deposit_profile(const terrain::CollapseRun& run);
 double front_arrival(const std::vector<std::pair<double, double>>& front, double fraction);
 std::vector<std::pair<double, double>> scaled_front(const terrain::CollapseRun& run);
 
+// The DEM's fed heap (dem/calibration/fed_heap.in, results/fed_heap_summary.csv;
+// dem/tools/fed_heap.py): per feed Q (bulk m^2/s per metre of width), the
+// slope's tangent over the steady window, mean and 5th and 95th
+// percentiles. The model's heap: experiments/fed_heap.h at lambda
+// kFedHeapLambda, the collapsing columns' scale (r0 = 0.1 m to 1 m).
+struct DemFedHeap {
+  double q_m2_s = 0.0, tan_mean = 0.0, tan_p05 = 0.0, tan_p95 = 0.0;
+};
+std::vector<DemFedHeap> read_dem_fed_heap(const std::filesystem::path& dem_dir);
+inline constexpr double kFedHeapLambda = 10.0;
+
 }  // namespace skidsim::report::perf

@@ -4,9 +4,9 @@
 # (calibration, bed, blade runs, bucket; the wheel bed, its sinkage plates and the wheel runs;
 # the collapsing columns) and post-processes them into the committed CSVs. See dem/README.md.
 #
-#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute erodible impact
-#                                            bed blade bucket wheel_bed plate wheel chute_post
-#                                            erodible_post impact_post post wheel_post collapse
+#   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute erodible fed_heap
+#                                            impact bed blade bucket wheel_bed plate wheel chute_post
+#                                            erodible_post fed_heap_post impact_post post wheel_post collapse
 #                                            collapse_post (default: all, in that order);
 #                                            optional stage "wide": the deep vertical cut in a
 #                                            0.5 m wide bin (its own bed, about 25 min more),
@@ -168,6 +168,27 @@ stage_erodible() {
 stage_erodible_post() {
   wait_ok
   "$PY" "$DEM/tools/erodible.py" "$DEM/calibration/results" "$SCRATCH/erodible"
+  write_meta
+}
+
+# A heap fed at known rates (dem/calibration/fed_heap.in): the slope the slow regime's surface
+# flow stands at for each flux Q (m^2/s of bulk soil per metre of width), 20 s each, measured
+# from 6 s on (dem/tools/fed_heap.py): the automaton's flux law against the grains'.
+FED_HEAP_Q_M2_S=(0.0005 0.001 0.002 0.004 0.008)
+FED_HEAP_TEND_S=20
+stage_fed_heap() {
+  local q c="$DEM/calibration"
+  mkdir -p "$SCRATCH/fed_heap"
+  for q in "${FED_HEAP_Q_M2_S[@]}"; do
+    throttle
+    run_deck "fed_heap_Q$q" "$c" fed_heap.in -var Q "$q" -var tend "$FED_HEAP_TEND_S" \
+      -var out "$(rel "$SCRATCH/fed_heap" "$c")" &
+  done
+}
+
+stage_fed_heap_post() {
+  wait_ok
+  "$PY" "$DEM/tools/fed_heap.py" "$SCRATCH/fed_heap" "$DEM/calibration/results"
   write_meta
 }
 
@@ -355,8 +376,8 @@ write_meta() {
 }
 
 stages=("$@")
-((${#stages[@]})) || stages=(meshes pile shear slide chute erodible impact bed blade bucket wheel_bed plate wheel chute_post
-  erodible_post impact_post post wheel_post collapse collapse_post)
+((${#stages[@]})) || stages=(meshes pile shear slide chute erodible fed_heap impact bed blade bucket wheel_bed plate wheel
+  chute_post erodible_post fed_heap_post impact_post post wheel_post collapse collapse_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done

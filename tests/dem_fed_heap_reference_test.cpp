@@ -1,0 +1,86 @@
+// A pour onto a heap against the stored LIGGGHTS heap fed at known rates
+// (dem/calibration/fed_heap.in, results/fed_heap_summary.csv;
+// scripts/dem_reference.sh, stages fed_heap and fed_heap_post): the slope the
+// heap stands at for each feed Q, skidsim's heap the DEM's scaled by 10 as
+// the collapsing columns are (experiments/fed_heap.h), at the sessions' 10
+// and 5 cm cells, in dem_sand as the columns take it.
+//
+// What the DEM shows (docs/fast_flows.md, "The slow regime against a fed
+// heap"): fed slowly, its heap avalanches by turns between about 35 deg
+// (the pile's repose angle, where an avalanche stops) and 39-41 deg (where
+// the next starts); fed faster, a flowing layer carries the feed on a
+// gentler slope, the mean falling from 38.7 to 34.6 deg as Q grows eight
+// times and 34.0 deg at sixteen. The automaton's flux law is a diffusion,
+// its slope rising with Q (tan alpha_I + Q / (v h_r)): within 5 deg of the
+// DEM's at the slowest feeds, 3-21 deg too steep at the fast ones. With the
+// fast flow the feed lands with its fall and, once it presses (sooner on
+// coarser cells), runs down as a layer: the heap stands lower than at the
+// slow feeds, as the DEM's does, but at 27-28 deg whatever Q, 6.2-7.4 deg
+// below the DEM's at the two fastest feeds. The bounds hold what is
+// reached; tighten them as the model improves.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "common/physical_constants.h"
+#include "experiments/fed_heap.h"
+#include "io/soil_table.h"
+#include "report/dem_columns.h"
+
+namespace skidsim::report::perf {
+namespace {
+
+namespace fs = std::filesystem;
+
+double deg(double tan_beta) { return std::atan(tan_beta) * 180.0 / kPi; }
+
+TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
+  const std::vector<DemFedHeap> dem = read_dem_fed_heap(fs::path(io::default_assets_dir()).parent_path() / "dem");
+  ASSERT_GE(dem.size(), 4u);
+  const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  const DemFedHeap& slowest = dem.front();
+  const DemFedHeap& fastest = dem.back();
+  // The reference itself: fed eight times faster or more, the DEM's heap
+  // stands lower.
+  ASSERT_GE(fastest.q_m2_s, 8.0 * slowest.q_m2_s);
+  EXPECT_LT(deg(fastest.tan_mean), deg(slowest.tan_mean) - 3.0);
+  for (double cell : {0.1, 0.05}) {
+    double model_slowest[2] = {0.0, 0.0};
+    for (const DemFedHeap& d : dem) {
+      double slope[2];
+      for (int momentum = 0; momentum < 2; ++momentum) {
+        terrain::FedHeapCase c;
+        c.q_m2_s = d.q_m2_s;
+        c.lambda = kFedHeapLambda;
+        c.cell_m = cell;
+        c.momentum = momentum == 1;
+        const terrain::FedHeapRun run = terrain::run_fed_heap(c, sand);
+        EXPECT_TRUE(run.books_exact);
+        EXPECT_NEAR(run.outflow_over_feed, 1.0, 0.12) << "Q " << d.q_m2_s << ", cell " << cell << ": far from steady";
+        slope[momentum] = deg(run.tan_slope);
+        if (&d == &slowest) model_slowest[momentum] = slope[momentum];
+      }
+      std::printf("cell %.2f m, Q %g m^2/s: DEM %.1f [%.1f-%.1f] deg, automaton %.1f deg, with the fast flow %.1f deg\n", cell,
+                  d.q_m2_s, deg(d.tan_mean), deg(d.tan_p05), deg(d.tan_p95), slope[0], slope[1]);
+      // The automaton alone, where the DEM's heap avalanches by turns (its
+      // regime): within 5.5 deg of the DEM's mean (measured 4.9 and 1.6 deg
+      // below). Fed faster it stands 3-21 deg too steep (printed).
+      if (d.q_m2_s <= 0.001) {
+        EXPECT_LT(std::abs(slope[0] - deg(d.tan_mean)), 5.5) << "Q " << d.q_m2_s << ", cell " << cell;
+      }
+      if (d.q_m2_s >= 0.5 * fastest.q_m2_s) {
+        // Fed fast, the pour runs as a layer: a gentler slope than the
+        // slowest feed's, as in the DEM, within 8 deg below the DEM's
+        // (measured 6.2-7.4 deg below).
+        EXPECT_LT(slope[1], model_slowest[1] - 2.0) << "Q " << d.q_m2_s << ", cell " << cell;
+        EXPECT_LT(slope[1], deg(d.tan_mean));
+        EXPECT_GT(slope[1], deg(d.tan_mean) - 8.0) << "Q " << d.q_m2_s << ", cell " << cell;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace skidsim::report::perf
