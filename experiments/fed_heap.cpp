@@ -31,8 +31,8 @@ double fitted_tan(const GranularGrid& g, double from_m, double to_m) {
 }  // namespace
 
 FedHeapRun run_fed_heap(const FedHeapCase& c, const SoilFlowParameters& soil) {
-  if (!(c.lambda > 0.0 && c.q_m2_s > 0.0 && c.cell_m > 0.0 && c.window_s > 0.0 && c.window_s < c.duration_s))
-    throw std::invalid_argument("fed heap: lambda, q_m2_s and cell_m must be > 0, the window within the run");
+  if (!(c.lambda > 0.0 && c.q_m2_s > 0.0 && c.cell_m > 0.0 && c.window_from_s >= 0.0 && c.window_from_s < c.duration_s))
+    throw std::invalid_argument("fed heap: lambda, q_m2_s and cell_m must be > 0, the window's start within the run");
   const double length = c.length_m * c.lambda, time_scale = std::sqrt(c.lambda);
   GridSpec spec;
   spec.cell_size_m = c.cell_m;
@@ -49,16 +49,19 @@ FedHeapRun run_fed_heap(const FedHeapCase& c, const SoilFlowParameters& soil) {
     flow = std::make_unique<MomentumFlow>(g, p, c.step_dt_s);
   }
 
-  // The feed: the cells whose centres lie in the band (at least the first).
+  // The feed: the cells whose centres lie in the band (at least the first;
+  // a centre on the band's end counts, whatever the rounding).
   std::vector<int> fed;
+  const double tolerance_m = 1e-9 * c.cell_m;
   for (int i = 0; i < spec.nx; ++i)
-    if (x_of(g, i) >= c.feed_from_m * c.lambda && x_of(g, i) <= c.feed_to_m * c.lambda) fed.push_back(i);
+    if (x_of(g, i) >= c.feed_from_m * c.lambda - tolerance_m && x_of(g, i) <= c.feed_to_m * c.lambda + tolerance_m)
+      fed.push_back(i);
   if (fed.empty()) fed.push_back(0);
   const double per_step_m3 = c.q_m2_s * std::pow(c.lambda, 1.5) * c.step_dt_s * c.cell_m / static_cast<double>(fed.size());
 
   const double land_v0_2 = c.feed_speed_m_s * c.feed_speed_m_s * c.lambda;
   const long steps = std::lround(c.duration_s * time_scale / c.step_dt_s);
-  const long window_from = steps - std::lround(c.window_s * time_scale / c.step_dt_s);
+  const long window_from = std::lround(c.window_from_s * time_scale / c.step_dt_s);
   const double fit_from = c.fit_from_m * c.lambda, fit_to = length - c.fit_to_edge_m * c.lambda;
   std::vector<double> tans;
   FedHeapRun run;

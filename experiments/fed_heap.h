@@ -5,7 +5,7 @@
 // steady state Q runs down the whole slope, and the automaton's flux law
 // (terrain/flow_law.h, (4.16)) says the slope carries it at
 //   tan beta = tan alpha_I + Q / (v h_r)   (Q above v h_stop)
-// Lengths are the DEM's times `lambda`, times sqrt(lambda) times the DEM's,
+// Lengths are lambda times the DEM's, times sqrt(lambda) times the DEM's and
 // Q lambda^(3/2) times the DEM's (Froude scaling);
 // the soil is taken as the collapsing columns take it
 // (experiments/column_collapse.h): the automaton's parameters as they are,
@@ -30,7 +30,7 @@ struct FedHeapCase {
   double feed_height_m = 0.34, feed_speed_m_s = 0.5;
   double initial_tan = 0.737;
   double duration_s = 20.0;
-  double window_s = 6.0;  // the run's last seconds (the DEM's: from 6 s on, fed_heap.py)
+  double window_from_s = 6.0;  // the slope is averaged from here to the end, as fed_heap.py does
   // The slope's least-squares line, as dem/tools/fed_heap.py fits it: from
   // 0.08 m off the wall to 0.06 m short of the edge (DEM scale).
   double fit_from_m = 0.08, fit_to_edge_m = 0.06;
@@ -42,7 +42,7 @@ struct FedHeapCase {
 };
 
 struct FedHeapRun {
-  double tan_slope = 0.0;     // averaged over the window
+  double tan_slope = 0.0;     // averaged over the window, from window_from_s on
   double tan_drift = 0.0;     // the window's second half's mean less its first's
   double outflow_over_feed = 0.0;  // over the window: 1 at steady state
   bool books_exact = false;

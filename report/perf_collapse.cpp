@@ -216,10 +216,10 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "A heap fed at a known rate (dem/calibration/fed_heap.in, stages fed_heap and fed_heap_post): grains rain at Q "
       "(bulk m^2/s per metre of width) onto the top of a quasi-two-dimensional heap 0.32 m long against a wall and "
       "run off its open edge; the slope (the least-squares line through the heap's height from 0.08 m off the wall to "
-      "0.06 m short of the edge) over the last 14 of 20 s. The DEM's slow feeds avalanche by turns (the 5th and 95th "
-      "percentiles: where an avalanche stops and where the next starts). skidsim's heap is the same scaled by " +
-      fmt("%g", kFedHeapLambda) + " (experiments/fed_heap.h), the automaton alone and with the fast flow, the feed "
-      "landing with its fall. Each cell: the mean slope in degrees.\n\n" + fed_heap_table(root / "dem", sand, cells) + "\n" + table(rungs, "worst relative error (run-out, height)", kCostPerSimulatedSecond, "model, cells") +
+      "0.06 m short of the edge) from 6 to 20 s. The DEM's heap sheds its feed in surges (the 5th and 95th "
+      "percentiles: about where they stop and where they start). skidsim's heap is the same scaled by " +
+      fmt("%g", kFedHeapLambda) + " (experiments/fed_heap.h), its slope averaged over the same window, the automaton "
+      "alone and with the fast flow, the feed landing with its fall. Each cell: the mean slope in degrees.\n\n" + fed_heap_table(root / "dem", sand, cells) + "\n" + table(rungs, "worst relative error (run-out, height)", kCostPerSimulatedSecond, "model, cells") +
       "\n![" + runout_svg + "](" + runout_svg + ") ![" + height_svg + "](" + height_svg + ")\n\n![" + front_svg + "](" +
       front_svg + ") ![" + error_svg + "](" + error_svg + ")\n";
   return s;

