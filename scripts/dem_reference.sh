@@ -174,7 +174,7 @@ stage_erodible_post() {
 # A heap fed at known rates (dem/calibration/fed_heap.in): the slope the slow regime's surface
 # flow stands at for each flux Q (m^2/s of bulk soil per metre of width), 20 s each, measured
 # from 6 s on (dem/tools/fed_heap.py): the automaton's flux law against the grains'.
-FED_HEAP_Q_M2_S=(0.0005 0.001 0.002 0.004 0.008)
+FED_HEAP_Q_M2_S=(0.0005 0.001 0.002 0.004 0.008 0.016 0.032)
 FED_HEAP_TEND_S=20
 stage_fed_heap() {
   local q c="$DEM/calibration"

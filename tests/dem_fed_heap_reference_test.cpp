@@ -8,17 +8,17 @@
 // What the DEM shows (docs/fast_flows.md, "The slow regime against a fed
 // heap"): it sheds its feed in surges, fed at up to 0.002 m^2/s between
 // 38-42 and 32-35 deg (the slowest feeds' stop at the pile's repose angle),
-// fed at 0.004 and 0.008 between 36-39 and 31-33 deg, so its mean slope
-// falls as the feed grows (38.7 to 34.0 deg), as heaps do on the way from
-// avalanches to continuous flow. The automaton's flux law is a diffusion,
-// its slope rising with Q (tan alpha_I + Q / (v h_r)), without the surges:
-// within 5 deg of the DEM's mean up to 0.002 m^2/s, 11-21 deg too steep
-// beyond. With the fast
-// flow the feed lands with its fall and runs down as a layer (from 0.001
-// m^2/s at 10 cm, from 0.002 at 5 cm): the heap stands lower than at the
-// slow feeds, as the DEM's does, but at 27-28 deg whatever Q, 6.2-7.4 deg
-// below the DEM's at the two fastest feeds. The bounds hold what is
-// reached; tighten them as the model improves.
+// fed faster in smaller, more frequent ones, and its mean slope falls as
+// the feed grows, from 38.7 deg at 0.0005 to 31.8 deg at 0.032 m^2/s: a
+// heap in the open, with no side walls to hold a thick layer. The
+// automaton's flux law is a diffusion, its slope rising with Q (tan alpha_I
+// + Q / (v h_r)), without the surges: within 5 deg of the DEM's mean up to
+// 0.002 m^2/s, 11-43 deg too steep beyond. With the fast flow the feed
+// lands with its fall and runs down as a layer (from 0.001 m^2/s at 10 cm,
+// from 0.002 at 5 cm), on a slope that rises with Q from 27 to 31 deg:
+// 6.2-7.4 deg under the DEM's at 0.004-0.008 m^2/s, within 1.1 deg at
+// 0.032. The bounds hold what is reached; tighten them as the model
+// improves.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,11 +44,10 @@ TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
   const DemFedHeap& slowest = dem.front();
   const DemFedHeap& fastest = dem.back();
   // The reference itself: fed eight times faster or more, the DEM's heap
-  // stands lower.
+  // stands lower (an open heap: no side walls hold the thicker layer).
   ASSERT_GE(fastest.q_m2_s, 8.0 * slowest.q_m2_s);
   EXPECT_LT(deg(fastest.tan_mean), deg(slowest.tan_mean) - 3.0);
   for (double cell : {0.1, 0.05}) {
-    double model_slowest[2] = {0.0, 0.0};
     for (const DemFedHeap& d : dem) {
       double slope[2];
       for (int momentum = 0; momentum < 2; ++momentum) {
@@ -62,24 +61,25 @@ TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
         // included: the slowest feed's DEM heap still gains mass in it too.
         EXPECT_TRUE(run.books_exact);
         slope[momentum] = deg(run.tan_slope);
-        if (&d == &slowest) model_slowest[momentum] = slope[momentum];
       }
       std::printf("cell %.2f m, Q %g m^2/s: DEM %.1f [%.1f-%.1f] deg, automaton %.1f deg, with the fast flow %.1f deg\n", cell,
                   d.q_m2_s, deg(d.tan_mean), deg(d.tan_p05), deg(d.tan_p95), slope[0], slope[1]);
       // The automaton alone, where the DEM's heap avalanches at its steepest
       // (Q up to 0.002): within 5.5 deg of the DEM's mean (measured 4.8 and 1.6
-      // deg under, 3.1 over). Fed faster it stands 11-21 deg too steep
+      // deg under, 3.1 over). Fed faster it stands 11-43 deg too steep
       // (printed).
       if (d.q_m2_s <= 0.002) {
         EXPECT_LT(std::abs(slope[0] - deg(d.tan_mean)), 5.5) << "Q " << d.q_m2_s << ", cell " << cell;
       }
-      if (d.q_m2_s >= 0.5 * fastest.q_m2_s) {
-        // Fed fast, the pour runs as a layer: a gentler slope than the
-        // slowest feed's, as in the DEM, within 8 deg below the DEM's
-        // (measured 6.2-7.4 deg below).
-        EXPECT_LT(slope[1], model_slowest[1] - 2.0) << "Q " << d.q_m2_s << ", cell " << cell;
-        EXPECT_LT(slope[1], deg(d.tan_mean));
+      if (d.q_m2_s >= 0.004) {
+        // Fed fast, the pour runs as a layer, under the DEM's slope and
+        // within 8 deg of it (measured 0.8-7.4 deg under).
+        EXPECT_LT(slope[1], deg(d.tan_mean)) << "Q " << d.q_m2_s << ", cell " << cell;
         EXPECT_GT(slope[1], deg(d.tan_mean) - 8.0) << "Q " << d.q_m2_s << ", cell " << cell;
+      }
+      // At the fastest feed within 2 deg (measured 0.8 / 1.1 deg under).
+      if (&d == &fastest) {
+        EXPECT_NEAR(slope[1], deg(d.tan_mean), 2.0) << "cell " << cell;
       }
     }
   }
