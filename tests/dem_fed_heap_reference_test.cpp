@@ -7,13 +7,14 @@
 //
 // What the DEM shows (docs/fast_flows.md, "The slow regime against a fed
 // heap"): it sheds its feed in surges, fed at up to 0.002 m^2/s between
-// 38-42 and 32-35 deg (the slowest feeds' stop at the pile's repose angle),
+// 38-42 and 32-35 deg (the slowest feeds' stop near the pile's repose angle),
 // fed faster in smaller, more frequent ones, and its mean slope falls as
-// the feed grows, from 38.7 deg at 0.0005 to 31.8 deg at 0.032 m^2/s: a
-// heap in the open, with no side walls to hold a thick layer. The
-// automaton's flux law is a diffusion, its slope rising with Q (tan alpha_I
-// + Q / (v h_r)), without the surges: within 5 deg of the DEM's mean up to
-// 0.002 m^2/s, 11-43 deg too steep beyond. With the fast flow the feed
+// the feed grows, from 38.7 deg at 0.0005 to 31.8 deg at 0.032 m^2/s, a
+// heap in the open (no side walls; heaps between walls steepen with the
+// flux). The automaton's flux law is a diffusion, its slope rising with Q
+// (tan alpha_I + Q / (v h_r)), without the surges: within 5 deg of the
+// DEM's mean up to 0.002 m^2/s (tested at 5.5), 11-43 deg too steep
+// beyond. With the fast flow the feed
 // lands with its fall and runs down as a layer (from 0.001 m^2/s at 10 cm,
 // from 0.002 at 5 cm), on a slope that rises with Q from 27 to 31 deg:
 // 6.2-7.4 deg under the DEM's at 0.004-0.008 m^2/s, within 1.1 deg at
@@ -44,7 +45,7 @@ TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
   const DemFedHeap& slowest = dem.front();
   const DemFedHeap& fastest = dem.back();
   // The reference itself: fed eight times faster or more, the DEM's heap
-  // stands lower (an open heap: no side walls hold the thicker layer).
+  // stands lower.
   ASSERT_GE(fastest.q_m2_s, 8.0 * slowest.q_m2_s);
   EXPECT_LT(deg(fastest.tan_mean), deg(slowest.tan_mean) - 3.0);
   for (double cell : {0.1, 0.05}) {
