@@ -82,7 +82,6 @@ FedHeapRun run_fed_heap(const FedHeapCase& c, const SoilFlowParameters& soil) {
     if (s % 500 == 0) run.books_exact = run.books_exact && g.ledger().balanced();
   }
   run.books_exact = run.books_exact && g.ledger().balanced();
-  run.steps = steps;
   double sum = 0.0, first = 0.0, second = 0.0;
   const std::size_t half = tans.size() / 2;
   for (std::size_t k = 0; k < tans.size(); ++k) (k < half ? first : second) += tans[k], sum += tans[k];

@@ -46,7 +46,6 @@ struct FedHeapRun {
   double tan_drift = 0.0;     // the window's second half's mean less its first's
   double outflow_over_feed = 0.0;  // over the window: 1 at steady state
   bool books_exact = false;
-  long steps = 0;
 };
 
 // `soil`: dem_sand, its grain diameter the DEM's.

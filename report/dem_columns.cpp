@@ -168,4 +168,15 @@ std::vector<DemFedHeap> read_dem_fed_heap(const fs::path& dem_dir) {
   return out;
 }
 
+terrain::FedHeapCase dem_fed_heap_case(const DemFedHeap& dem, double cell_m, bool momentum) {
+  terrain::FedHeapCase c;
+  c.q_m2_s = dem.q_m2_s;
+  c.lambda = kFedHeapLambda;
+  c.cell_m = cell_m;
+  c.momentum = momentum;
+  return c;
+}
+
+double slope_deg(double tan_beta) { return rad_to_deg(std::atan(tan_beta)); }
+
 }  // namespace skidsim::report::perf

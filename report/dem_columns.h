@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "experiments/column_collapse.h"
+#include "experiments/fed_heap.h"
 
 namespace skidsim::report::perf {
 
@@ -96,5 +97,9 @@ struct DemFedHeap {
 };
 std::vector<DemFedHeap> read_dem_fed_heap(const std::filesystem::path& dem_dir);
 inline constexpr double kFedHeapLambda = 10.0;
+// The DEM run's case on the grid at `cell_m`, the fast flow on when `momentum`.
+terrain::FedHeapCase dem_fed_heap_case(const DemFedHeap& dem, double cell_m, bool momentum);
+// A slope's tangent in degrees.
+double slope_deg(double tan_beta);
 
 }  // namespace skidsim::report::perf

@@ -35,23 +35,16 @@ bool tube(const DemColumn& c) { return !c.slot && c.drop_over_r0 == 0.0; }
 // and with the fast flow (the feed landing with its fall), at the columns'
 // scale; slopes in degrees.
 std::string fed_heap_table(const fs::path& dem_dir, const terrain::SoilFlowParameters& sand, const std::vector<double>& cells) {
-  auto deg = [](double tan_beta) { return std::atan(tan_beta) * 180.0 / kPi; };
   std::string header = "| Q (m^2/s per m) | DEM: mean [5-95 %] |", rule = "|---|---|";
   for (const char* model : {"automaton", "automaton + momentum"})
     for (double cell : cells) header += std::string(" ") + model + ", " + fmt("%g", cell * 100.0) + " cm |", rule += "---|";
   std::string rows;
   for (const DemFedHeap& d : read_dem_fed_heap(dem_dir)) {
-    rows += "| " + fmt("%g", d.q_m2_s) + " | " + fmt("%.1f", deg(d.tan_mean)) + " [" + fmt("%.1f", deg(d.tan_p05)) + "-" +
-            fmt("%.1f", deg(d.tan_p95)) + "]";
+    rows += "| " + fmt("%g", d.q_m2_s) + " | " + fmt("%.1f", slope_deg(d.tan_mean)) + " [" + fmt("%.1f", slope_deg(d.tan_p05)) +
+            "-" + fmt("%.1f", slope_deg(d.tan_p95)) + "]";
     for (bool momentum : {false, true})
-      for (double cell : cells) {
-        terrain::FedHeapCase c;
-        c.q_m2_s = d.q_m2_s;
-        c.lambda = kFedHeapLambda;
-        c.cell_m = cell;
-        c.momentum = momentum;
-        rows += " | " + fmt("%.1f", deg(terrain::run_fed_heap(c, sand).tan_slope));
-      }
+      for (double cell : cells)
+        rows += " | " + fmt("%.1f", slope_deg(terrain::run_fed_heap(dem_fed_heap_case(d, cell, momentum), sand).tan_slope));
     rows += " |\n";
   }
   return header + "\n" + rule + "\n" + rows;

@@ -26,7 +26,6 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "common/physical_constants.h"
 #include "experiments/fed_heap.h"
 #include "io/soil_table.h"
 #include "report/dem_columns.h"
@@ -35,8 +34,6 @@ namespace skidsim::report::perf {
 namespace {
 
 namespace fs = std::filesystem;
-
-double deg(double tan_beta) { return std::atan(tan_beta) * 180.0 / kPi; }
 
 TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
   const std::vector<DemFedHeap> dem = read_dem_fed_heap(fs::path(io::default_assets_dir()).parent_path() / "dem");
@@ -47,40 +44,35 @@ TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
   // The reference itself: fed eight times faster or more, the DEM's heap
   // stands lower.
   ASSERT_GE(fastest.q_m2_s, 8.0 * slowest.q_m2_s);
-  EXPECT_LT(deg(fastest.tan_mean), deg(slowest.tan_mean) - 3.0);
+  EXPECT_LT(slope_deg(fastest.tan_mean), slope_deg(slowest.tan_mean) - 3.0);
   for (double cell : {0.1, 0.05}) {
     for (const DemFedHeap& d : dem) {
       double slope[2];
       for (int momentum = 0; momentum < 2; ++momentum) {
-        terrain::FedHeapCase c;
-        c.q_m2_s = d.q_m2_s;
-        c.lambda = kFedHeapLambda;
-        c.cell_m = cell;
-        c.momentum = momentum == 1;
-        const terrain::FedHeapRun run = terrain::run_fed_heap(c, sand);
+        const terrain::FedHeapRun run = terrain::run_fed_heap(dem_fed_heap_case(d, cell, momentum == 1), sand);
         // Averaged over the DEM's window (from 6 s on), the heap's start
         // included: the slowest feed's DEM heap still gains mass in it too.
         EXPECT_TRUE(run.books_exact);
-        slope[momentum] = deg(run.tan_slope);
+        slope[momentum] = slope_deg(run.tan_slope);
       }
       std::printf("cell %.2f m, Q %g m^2/s: DEM %.1f [%.1f-%.1f] deg, automaton %.1f deg, with the fast flow %.1f deg\n", cell,
-                  d.q_m2_s, deg(d.tan_mean), deg(d.tan_p05), deg(d.tan_p95), slope[0], slope[1]);
+                  d.q_m2_s, slope_deg(d.tan_mean), slope_deg(d.tan_p05), slope_deg(d.tan_p95), slope[0], slope[1]);
       // The automaton alone, where the DEM's heap avalanches at its steepest
       // (Q up to 0.002): within 5.5 deg of the DEM's mean (measured 4.8 and 1.6
       // deg under, 3.1 over). Fed faster it stands 11-43 deg too steep
       // (printed).
       if (d.q_m2_s <= 0.002) {
-        EXPECT_LT(std::abs(slope[0] - deg(d.tan_mean)), 5.5) << "Q " << d.q_m2_s << ", cell " << cell;
+        EXPECT_LT(std::abs(slope[0] - slope_deg(d.tan_mean)), 5.5) << "Q " << d.q_m2_s << ", cell " << cell;
       }
       if (d.q_m2_s >= 0.004) {
         // Fed fast, the pour runs as a layer, under the DEM's slope and
         // within 8 deg of it (measured 0.8-7.4 deg under).
-        EXPECT_LT(slope[1], deg(d.tan_mean)) << "Q " << d.q_m2_s << ", cell " << cell;
-        EXPECT_GT(slope[1], deg(d.tan_mean) - 8.0) << "Q " << d.q_m2_s << ", cell " << cell;
+        EXPECT_LT(slope[1], slope_deg(d.tan_mean)) << "Q " << d.q_m2_s << ", cell " << cell;
+        EXPECT_GT(slope[1], slope_deg(d.tan_mean) - 8.0) << "Q " << d.q_m2_s << ", cell " << cell;
       }
       // At the fastest feed within 2 deg (measured 0.8 / 1.1 deg under).
       if (&d == &fastest) {
-        EXPECT_NEAR(slope[1], deg(d.tan_mean), 2.0) << "cell " << cell;
+        EXPECT_NEAR(slope[1], slope_deg(d.tan_mean), 2.0) << "cell " << cell;
       }
     }
   }

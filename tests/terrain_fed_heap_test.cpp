@@ -17,7 +17,7 @@ namespace {
 
 TEST(FedHeap, TheAutomatonCarriesTheFeedAtTheFlowLawsSlope) {
   const SoilFlowParameters sand;  // dry sand: v h_r = 0.3 m^2/s, v h_stop = 0.005 m^2/s
-  const double tan_stop = std::tan(sand.stop_angle_deg * kPi / 180.0);
+  const double tan_stop = std::tan(deg_to_rad(sand.stop_angle_deg));
   const double v_hr = sand.rolling_speed_m_per_s * sand.rolling_layer_m;
   for (double cell : {0.1, 0.05})
     for (double q_dem : {0.001, 0.004}) {

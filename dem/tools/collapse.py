@@ -38,15 +38,10 @@ import math
 import os
 import sys
 
-from dem_io import read_dump, read_quantities
+from dem_io import grain_mass, read_dump, read_quantities
 
 D50_M = 0.008          # dem/material.in: radii 3.6 / 4.0 / 4.4 mm
 G_M_S2 = 9.80665
-RHO_GRAIN = 2650.0
-
-
-def grain_mass(r):
-    return RHO_GRAIN * 4.0 / 3.0 * math.pi * r ** 3
 
 
 def distance(atom, slot):

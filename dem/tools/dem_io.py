@@ -1,5 +1,15 @@
 """Shared by the post-processing scripts: reading LIGGGHTS text dumps and
-quantity CSVs, and a least-squares line (Python 3, stdlib only)."""
+quantity CSVs, a grain's mass and a least-squares line (Python 3, stdlib
+only)."""
+import math
+
+RHO_GRAIN = 2650.0  # dem/material.in, particle density (kg/m^3)
+
+
+def grain_mass(r):
+    """A sphere of radius r (m) of the grains' material (kg)."""
+    return RHO_GRAIN * 4.0 / 3.0 * math.pi * r ** 3
+
 
 
 def read_dump(path):

@@ -30,19 +30,14 @@ import os
 import re
 import sys
 
-from dem_io import line_fit, read_dump, read_material
+from dem_io import grain_mass, line_fit, read_dump, read_material
 
 D50_M = 0.008          # dem/material.in
-RHO_GRAIN = 2650.0
 DT_S = 7.5e-5          # dem/material.in
 LY_M = 0.048           # fed_heap.in's defaults
 L_M = 0.32
 X_FROM_M = 0.08
 X_TO_M = L_M - 0.06
-
-
-def grain_mass(r):
-    return RHO_GRAIN * 4.0 / 3.0 * math.pi * r ** 3
 
 
 def frame_of(path):
