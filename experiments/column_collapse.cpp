@@ -113,6 +113,16 @@ CollapseFrame measure_collapse(const GranularGrid& g, const CollapseCase& c, dou
   return f;
 }
 
+double published_runout_over_r0(double aspect) { return aspect < 1.7 ? 1.24 * aspect : 1.6 * std::sqrt(aspect); }
+
+CollapseCase laboratory_column_case(double aspect, double cell_m) {
+  CollapseCase c;  // defaults: r0 = 1 m, the soil's own grains, its bed's friction on the floor
+  c.aspect = aspect;
+  c.cell_m = cell_m;
+  c.momentum = true;
+  return c;
+}
+
 CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters& soil) {
   CollapseRun run;
   run.c = c;

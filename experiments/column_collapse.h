@@ -87,6 +87,19 @@ struct CollapseRun {
 // max_time_s. Throws std::invalid_argument for a case the grid cannot hold.
 CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters& soil);
 
+// The published run-out law for axisymmetric collapses on a horizontal
+// plane, (r_inf - r0) / r0 = 1.24 a below a = 1.7 and 1.6 a^0.5 above
+// (Lube, Huppert, Sparks and Hallworth 2004, "Axisymmetric collapses of
+// granular columns", J. Fluid Mech. 508; measured on sand, salt, rice,
+// couscous and sugar alike, columns of hundreds of grains per radius).
+// A closed form kept beside the experiment as an independent reference.
+double published_runout_over_r0(double aspect);
+
+// A tube of aspect ratio `aspect` at r0 = 1 m as a laboratory or a session
+// has it: the soil's own grains (hundreds per radius) and its own friction
+// on the floor, the fast flow on, the failed mass raining.
+CollapseCase laboratory_column_case(double aspect, double cell_m);
+
 // The measures of one state (exposed for the tests).
 CollapseFrame measure_collapse(const GranularGrid& grid, const CollapseCase& c, double t_s);
 // The volume in bins a cell wide along the distance from the axis (or the

@@ -150,17 +150,24 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
   }
   // The collapsing columns against the stored DEM runs (dem/collapse/results):
   // a row per DEM column with its run-out and height and the automaton's at
-  // 10 cm (a quick run), a row per fed heap run with the slopes, one rung
-  // whose books stayed exact, its point on the error plot and the three
-  // curves.
+  // 10 cm (a quick run), a row per fed heap run with the slopes, a row per
+  // aspect ratio against the published run-out law (three soils with the
+  // fast flow and alone), one rung whose books stayed exact, its point on
+  // the error plot and the three curves.
   {
     const std::string s = section(md, "## Collapsing columns against the DEM reference");
     ASSERT_FALSE(s.empty());
     const auto rows = table_rows(s);
     ASSERT_GE(rows.size(), 2u);
     const std::size_t columns = rows.size() - 1;
-    std::size_t heap_rows = 0;
+    std::size_t heap_rows = 0, law_rows = 0;
     for (std::size_t k = 0; k < columns; ++k) {
+      if (rows[k].size() == 8u) {  // a, the published run-out, three soils at 10 cm, the same three alone
+        ++law_rows;
+        for (std::size_t c = 0; c < 8; ++c)
+          EXPECT_GT(std::strtod(rows[k][c].c_str(), nullptr), 0.0) << "published law '" << rows[k][c] << "'";
+        continue;
+      }
       if (rows[k].size() == 4u) {  // the fed heap: Q, the DEM's slope, the automaton's and with the fast flow at 10 cm
         ++heap_rows;
         for (std::size_t c : {0u, 1u, 2u, 3u})
@@ -172,6 +179,7 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
       EXPECT_GT(std::strtod(rows[k][2].c_str(), nullptr), 0.0) << "skidsim's run-out '" << rows[k][2] << "'";
     }
     EXPECT_EQ(heap_rows, 7u) << "a row per DEM fed heap run (dem/calibration/results/fed_heap_summary.csv)";
+    EXPECT_EQ(law_rows, 4u) << "a row per aspect ratio, 0.5 to 4";
     EXPECT_GT(std::strtod(rows[columns][2].c_str(), nullptr), 0.0) << "a cost was measured";
     EXPECT_NE(rows[columns][3].find("books exact"), std::string::npos) << rows[columns][3];
     EXPECT_EQ(count(read(dir / "perf_collapse_error.svg"), "<circle"), 1u);

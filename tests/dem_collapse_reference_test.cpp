@@ -178,37 +178,6 @@ TEST(DemCollapse, RunOutHeightAndFrontAgainstTheDemAtTwoCellSizes) {
   }
 }
 
-// The same material with its grains at their own size (8 mm at r0 = 1 m:
-// 125 grains per radius, as in the laboratory columns, so the thin-layer law
-// acts only in layers a few centimetres thick) and one friction on floor and
-// bed, against the published laws for axisymmetric collapses, measured on
-// sands, rice, sugar and glass beads alike: (r - r0) / r0 = 1.24 a below
-// a = 1.7 and 1.6 a^0.5 above (Lube, Huppert, Sparks and Hallworth 2004,
-// "Axisymmetric collapses of granular columns", J. Fluid Mech. 508;
-// Lajeunesse, Mangeney-Castelnau and Vilotte 2004 found the same forms).
-// Within 10 % at a = 1, 2 and 4; a = 0.5, whose run-out is the edge wedge's
-// slide, within 20 % (11-14 % short).
-double published_runout_over_r0(double a) { return a < 1.7 ? 1.24 * a : 1.6 * std::sqrt(a); }
-
-TEST(DemCollapse, AtTheLaboratorysGrainSizeTheRunOutFollowsThePublishedLaws) {
-  const Reference& s = reference();
-  for (double cell : {0.1, 0.05}) {
-    for (const DemColumn& d : s.dem) {
-      if (d.slot || d.drop_over_r0 > 0.0) continue;
-      terrain::CollapseCase c = dem_column_case(d, cell, true, true);
-      c.momentum_params.grain_diameter_m = 0.0;    // the soil's own grains
-      c.momentum_params.floor_friction_deg = 0.0;  // the bed's friction on the floor too
-      const terrain::CollapseRun run = terrain::run_column_collapse(c, s.sand.flow);
-      const double law = published_runout_over_r0(d.aspect), error = run.runout_over_r0 / law - 1.0;
-      std::printf("[ measured ] a = %g at %g m, 125 grains per radius: run-out %.2f r0 (published law %.2f, %+.1f %%), "
-                  "height %.2f r0\n",
-                  d.aspect, cell, run.runout_over_r0, law, 100.0 * error, run.final_height_over_r0);
-      EXPECT_TRUE(run.books_exact);
-      EXPECT_LT(std::abs(error), d.aspect < 1.0 ? 0.20 : 0.10) << "a = " << d.aspect << ", " << cell << " m";
-    }
-  }
-}
-
 // The same grains in a tube twice as wide (r0 = 0.2 m, 25 grains per radius:
 // kWideTubeResults), the model's grains scaled with r0 as the DEM's are
 // (0.04 r0), at the sessions' 10 and 5 cm cells. From 12.5 to 25 grains per
