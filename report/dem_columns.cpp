@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <map>
 #include <string>
 
 #include "common/physical_constants.h"
@@ -13,7 +15,7 @@ namespace fs = std::filesystem;
 
 std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::string& results) {
   const fs::path dir = dem_dir / "collapse" / results;
-  const fs::path material = dem_dir / "calibration" / "material.csv";
+  const fs::path material = columns_material(dem_dir, results);
   const std::map<std::string, double> m = read_csv_quantities(material);
   auto quantity = [&](const std::string& name) {
     const auto it = m.find(name);
@@ -21,7 +23,9 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::stri
     return it->second;
   };
   const double floor_deg = quantity("floor_flowing_friction_angle_deg");
-  const double wall_deg = quantity("slot_wall_flowing_friction_angle_deg");
+  // The walls only where a slot was run (a side study's calibration has none).
+  const bool walls = m.count("slot_wall_flowing_friction_angle_deg") > 0;
+  const double wall_deg = walls ? quantity("slot_wall_flowing_friction_angle_deg") : 0.0;
   const double grain_m = quantity("particle_diameter_m");
   const fs::path summary = dir / "summary.csv";
   const CsvNumbers csv = read_csv_numbers(summary);
@@ -32,6 +36,7 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::stri
     c.slot_wall_friction_deg = wall_deg;
     c.grain_diameter_over_r0 = grain_m / row[csv.column("r0_m", summary)];
     c.slot = row[csv.column("slot", summary)] != 0.0;
+    if (c.slot && !walls) quantity("slot_wall_flowing_friction_angle_deg");  // throws, naming the file
     c.aspect = row[csv.column("aspect_ratio", summary)];
     c.drop_over_r0 = row[csv.column("drop_m", summary)] / row[csv.column("r0_m", summary)];
     c.runout = row[csv.column("runout_r99_rel", summary)];
@@ -68,6 +73,29 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::stri
     out.push_back(c);
   }
   return out;
+}
+
+fs::path columns_material(const fs::path& dem_dir, const std::string& results) {
+  const fs::path own = dem_dir / "collapse" / results / "material.csv";
+  return fs::exists(own) ? own : dem_dir / "calibration" / "material.csv";
+}
+
+terrain::SoilFlowParameters calibrated_flow(const fs::path& material_csv, terrain::SoilFlowParameters base) {
+  const std::map<std::string, double> m = read_csv_quantities(material_csv);
+  auto quantity = [&](const std::string& name) {
+    const auto it = m.find(name);
+    if (it == m.end()) throw std::runtime_error(material_csv.string() + ": no quantity " + name);
+    return it->second;
+  };
+  const double stop_below_repose_deg = base.repose_angle_deg - base.stop_angle_deg;
+  base.repose_angle_deg = quantity("repose_angle_deg");
+  base.stop_angle_deg = base.repose_angle_deg - stop_below_repose_deg;
+  base.flowing_friction_angle_deg = quantity("flowing_friction_angle_deg");
+  base.thin_layer_friction_angle_deg = quantity("thin_layer_friction_angle_deg");
+  base.thin_layer_decay_grains = quantity("thin_layer_decay_grains");
+  base.grain_diameter_m = quantity("particle_diameter_m");
+  base.bed_start_angle_deg = quantity("bed_start_angle_deg");
+  return base;
 }
 
 std::string column_name(const DemColumn& c) {

@@ -60,6 +60,22 @@ std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dem_dir, co
 // The tube twice as wide (r0 = 0.2 m, 25 grains per radius;
 // scripts/dem_reference.sh, COLLAPSE_WIDE_R0_M).
 inline constexpr const char* kWideTubeResults = "results_r0_0.2";
+// The same tubes in a rougher material: the grains' rolling friction 0.6
+// for 0.3, calibrated on the pile, the inclined layers and the erodible bed
+// alone (scripts/dem_reference.sh, stage friction): whether the DEM's
+// run-out follows the material's friction as the model's does.
+inline constexpr const char* kRougherGrainsResults = "results_mu_r0.6";
+// The calibration the columns in collapse/`results` were run with: the
+// folder's own material.csv (a side study's), else calibration/material.csv.
+std::filesystem::path columns_material(const std::filesystem::path& dem_dir, const std::string& results);
+// `base` with the flow law's calibrated fields from a DEM calibration
+// (material_csv, dem/tools/material_csv.py): the repose angle (the pile),
+// the flowing friction and the thin-layer law (the inclined layers), the
+// grains' diameter and the bed's start angle (the erodible bed); the stop
+// angle, not calibrated, kept `base`'s distance under the repose angle (the
+// estimate dem_sand's is, assets/soils.xml). Throws std::runtime_error
+// naming the file and the quantity missing.
+terrain::SoilFlowParameters calibrated_flow(const std::filesystem::path& material_csv, terrain::SoilFlowParameters base);
 
 std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "dropped 4 r0, a = 1"
 // The DEM column's case on the grid at `cell_m`: the fast flow on when

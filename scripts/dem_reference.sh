@@ -7,14 +7,15 @@
 #   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute erodible fed_heap
 #                                            impact bed blade bucket wheel_bed plate wheel chute_post
 #                                            erodible_post fed_heap_post impact_post post wheel_post collapse
-#                                            collapse_post (default: all, in that order);
+#                                            collapse_post friction friction_post (default: all, in
+#                                            that order);
 #                                            optional stage "wide": the deep vertical cut in a
 #                                            0.5 m wide bin (its own bed, about 25 min more),
 #                                            then "post"
 #   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
 #
-# Takes about six hours on one core (see dem/results_meta.csv). Never run in CI.
+# Takes about six and a half hours on one core (see dem/results_meta.csv). Never run in CI.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -336,6 +337,58 @@ stage_collapse_post() {
   write_meta
 }
 
+# The friction side study (docs/fast_flows.md, "A rougher material"): the same grains with their
+# rolling friction FRICTION_MU_R for 0.3 (dem/material.in, mu_r), calibrated on the pile, the
+# inclined layers (on the grains, four thicknesses; on the columns' floor) and the erodible bed
+# alone, then its tubes of aspect ratio FRICTION_ASPECTS: whether the DEM's run-out follows the
+# material's friction as the model's does. Results, with the calibration's own material.csv, in
+# dem/collapse/results_mu_r$FRICTION_MU_R. The layers are kicked above this material's repose.
+FRICTION_MU_R=0.6
+FRICTION_ASPECTS=(0.5 1 2)
+FRICTION_CHUTE_RUNS=(
+  "grains_n4 1 4 0 52 46 44 42 40 38 36 34 32 30"
+  "grains_n8 1 8 0 48 40 38 36 34 32 30 28 26 24 22"
+  "grains_n16 1 16 0 46 36 34 32 30 28 26 24 22 20 18"
+  "grains_n64 1 64 0 44 34 32 30 28 26 24 22 20"
+  "floor_n8 3 8 0 44 28 26 24 22 20 18 16 14 12"
+)
+FRICTION_ERODIBLE_ANGLES=(29 30 31 32 33)
+stage_friction() {
+  local run name base layers gap kick angles a th f="$SCRATCH/friction" c="$DEM/calibration" co="$DEM/collapse"
+  local mu=(-var mu_r "$FRICTION_MU_R")
+  mkdir -p "$f/pile" "$f/chute" "$f/erodible" "$f/collapse"
+  throttle
+  run_deck friction_pile "$c" pile.in "${mu[@]}" -var meshdir "$(rel "$MESHES" "$c")" -var out "$(rel "$f/pile" "$c")" &
+  for run in "${FRICTION_CHUTE_RUNS[@]}"; do
+    read -r name base layers gap kick angles <<< "$run"
+    throttle
+    # shellcheck disable=SC2086  # the angles are one argument each
+    run_deck "friction_chute_$name" "$c" chute.in "${mu[@]}" -var base "$base" -var layers "$layers" -var W "$gap" \
+      -var kick "$kick" -var theta $angles -var out "$(rel "$f/chute" "$c")" &
+  done
+  for th in "${FRICTION_ERODIBLE_ANGLES[@]}"; do
+    throttle
+    run_deck "friction_erodible_top4_theta$th" "$c" erodible.in "${mu[@]}" -var top 4 -var v0 0.5 -var theta "$th" \
+      -var trun 2.0 -var out "$(rel "$f/erodible" "$c")" &
+  done
+  for a in "${FRICTION_ASPECTS[@]}"; do
+    throttle
+    run_deck "friction_tube_a$a" "$co" column.in "${mu[@]}" -var a "$a" -var slot 0 -var out "$(rel "$f/collapse" "$co")" &
+  done
+}
+
+stage_friction_post() {
+  wait_ok
+  local f="$SCRATCH/friction" res="$DEM/collapse/results_mu_r$FRICTION_MU_R"
+  mkdir -p "$res"
+  "$PY" "$DEM/tools/repose.py" "$f/pile/pile_final.dump" "$res/repose.csv"
+  "$PY" "$DEM/tools/chute.py" "$res" "$f/chute"
+  "$PY" "$DEM/tools/erodible.py" "$res" "$f/erodible"
+  "$PY" "$DEM/tools/material_csv.py" --flow "$res" "$res/material.csv"
+  "$PY" "$DEM/tools/collapse.py" "$f/collapse" "$res"
+  write_meta
+}
+
 stage_post() {
   wait_ok
   local cal="$DEM/calibration/results"
@@ -377,7 +430,7 @@ write_meta() {
 
 stages=("$@")
 ((${#stages[@]})) || stages=(meshes pile shear slide chute erodible fed_heap impact bed blade bucket wheel_bed plate wheel
-  chute_post erodible_post fed_heap_post impact_post post wheel_post collapse collapse_post)
+  chute_post erodible_post fed_heap_post impact_post post wheel_post collapse collapse_post friction friction_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done
