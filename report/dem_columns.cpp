@@ -13,15 +13,22 @@ namespace skidsim::report::perf {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A quantity of a calibration's CSV; throws naming the file and the quantity when it is missing.
+double quantity_in(const std::map<std::string, double>& m, const fs::path& file, const std::string& name) {
+  const auto it = m.find(name);
+  if (it == m.end()) throw std::runtime_error(file.string() + ": no quantity " + name);
+  return it->second;
+}
+
+}  // namespace
+
 std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::string& results) {
   const fs::path dir = dem_dir / "collapse" / results;
   const fs::path material = columns_material(dem_dir, results);
   const std::map<std::string, double> m = read_csv_quantities(material);
-  auto quantity = [&](const std::string& name) {
-    const auto it = m.find(name);
-    if (it == m.end()) throw std::runtime_error(material.string() + ": no quantity " + name);
-    return it->second;
-  };
+  auto quantity = [&](const std::string& name) { return quantity_in(m, material, name); };
   const double floor_deg = quantity("floor_flowing_friction_angle_deg");
   // The walls only where a slot was run (a side study's calibration has none).
   const bool walls = m.count("slot_wall_flowing_friction_angle_deg") > 0;
@@ -82,11 +89,7 @@ fs::path columns_material(const fs::path& dem_dir, const std::string& results) {
 
 terrain::SoilFlowParameters calibrated_flow(const fs::path& material_csv, terrain::SoilFlowParameters base) {
   const std::map<std::string, double> m = read_csv_quantities(material_csv);
-  auto quantity = [&](const std::string& name) {
-    const auto it = m.find(name);
-    if (it == m.end()) throw std::runtime_error(material_csv.string() + ": no quantity " + name);
-    return it->second;
-  };
+  auto quantity = [&](const std::string& name) { return quantity_in(m, material_csv, name); };
   const double stop_below_repose_deg = base.repose_angle_deg - base.stop_angle_deg;
   base.repose_angle_deg = quantity("repose_angle_deg");
   base.stop_angle_deg = base.repose_angle_deg - stop_below_repose_deg;

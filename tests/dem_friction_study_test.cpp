@@ -43,10 +43,11 @@ TEST(DemFrictionStudy, DemSandsFlowLawIsItsCalibrations) {
 // calibrated material's. The DEM's run-out falls by a quarter (r99 -23 /
 // -23 / -24 % at a = 0.5 / 1 / 2) and its heights rise (+13 % at a = 1 and
 // 2); the model's barely move (r99 +1 to +4 % at a >= 1, -3 / -14 % at
-// a = 0.5, heights +0 to +3 %, at 10 / 5 cm): its repose angle, steeper,
+// a = 0.5, heights +0 to +3 %, at 10 / 5 cm): the automaton's stop angle,
+// 3 deg under the repose angle (an estimate) and so 5.4 deg steeper,
 // lengthens its run-out (+17-19 % on the calibrated material; the
-// automaton's angles, acting on the flow's cells), which outweighs the
-// floor's friction (-9 / -8 % on the rougher material). Its rougher tubes
+// automaton acts on the flow's cells), which outweighs the floor's friction
+// (-9 / -8 % on the rougher material). Its rougher tubes
 // so come within 8 % of the rougher DEM's r99 at a >= 1 because the DEM
 // came to them: on the calibrated material they are 21-27 % short
 // (docs/fast_flows.md, "A rougher material"). Held: the DEM's response, and
