@@ -60,11 +60,17 @@ std::vector<DemColumn> read_dem_columns(const std::filesystem::path& dem_dir, co
 // The tube twice as wide (r0 = 0.2 m, 25 grains per radius;
 // scripts/dem_reference.sh, COLLAPSE_WIDE_R0_M).
 inline constexpr const char* kWideTubeResults = "results_r0_0.2";
-// The same tubes in a rougher material: the grains' rolling friction 0.6
-// for 0.3, calibrated on the pile, the inclined layers and the erodible bed
-// alone (scripts/dem_reference.sh, stage friction): whether the DEM's
-// run-out follows the material's friction as the model's does.
-inline constexpr const char* kRougherGrainsResults = "results_mu_r0.6";
+// The friction side study (scripts/dem_reference.sh, stage friction): the
+// same tubes in materials whose grains' rolling friction is
+// `rolling_friction` for the calibrated 0.3, each calibrated on the pile,
+// the inclined layers and the erodible bed alone (collapse/`results` holds
+// its material.csv): whether the DEM's run-out follows the material's
+// friction as the model's does.
+struct FrictionStudyMaterial {
+  double rolling_friction;
+  const char* results;
+};
+inline constexpr FrictionStudyMaterial kFrictionStudy[] = {{0.6, "results_mu_r0.6"}, {0.15, "results_mu_r0.15"}};
 // The calibration the columns in collapse/`results` were run with: the
 // folder's own material.csv (a side study's), else calibration/material.csv.
 std::filesystem::path columns_material(const std::filesystem::path& dem_dir, const std::string& results);

@@ -77,31 +77,31 @@ std::string published_laws_table(const io::SoilTable& soils, const std::vector<d
   return header + "\n" + rule + "\n" + rows;
 }
 
-// The friction side study (dem/collapse/results_mu_r0.6): the DEM's tubes
-// and the model's in the calibrated material and in the rougher one, the
-// model given each calibration (calibrated_flow). Each cell: r99 / height
-// over r0.
-std::string rougher_material_table(const fs::path& dem_dir, const terrain::SoilFlowParameters& sand,
-                                   const std::vector<double>& cells) {
-  const terrain::SoilFlowParameters rough = calibrated_flow(columns_material(dem_dir, kRougherGrainsResults), sand);
-  const std::vector<DemColumn> base = read_dem_columns(dem_dir), rougher = read_dem_columns(dem_dir, kRougherGrainsResults);
-  std::string header = "| column | DEM, calibrated | DEM, rougher |", rule = "|---|---|---|";
-  for (double cell : cells)
-    for (const char* material : {"calibrated", "rougher"})
-      header += std::string(" model, ") + material + ", " + fmt("%g", cell * 100.0) + " cm |", rule += "---|";
+// The friction side study (kFrictionStudy): the DEM's tubes and the
+// model's in the calibrated material and in each other one, the model given
+// each calibration (calibrated_flow). Each cell: r99 / height over r0.
+std::string friction_study_table(const fs::path& dem_dir, const terrain::SoilFlowParameters& sand,
+                                 const std::vector<double>& cells) {
+  const std::vector<DemColumn> base = read_dem_columns(dem_dir);
+  std::string header = "| rolling friction | column | repose (deg) | DEM |", rule = "|---|---|---|---|";
+  for (double cell : cells) header += " model, " + fmt("%g", cell * 100.0) + " cm |", rule += "---|";
   auto pair = [](double runout, double height) { return fmt("%.2f", runout) + " / " + fmt("%.2f", height); };
   std::string rows;
-  for (const DemColumn& d : rougher) {
-    const auto b = std::find_if(base.begin(), base.end(), [&](const DemColumn& c) { return tube(c) && c.aspect == d.aspect; });
-    if (b == base.end()) throw std::runtime_error("performance report: no calibrated DEM tube of a = " + fmt("%g", d.aspect));
-    rows += "| " + column_name(d) + " | " + pair(b->runout, b->height) + " | " + pair(d.runout, d.height);
-    for (double cell : cells)
-      for (const auto& [column, soil] : {std::pair{&*b, &sand}, std::pair{&d, &rough}}) {
-        const CollapseRun run = terrain::run_column_collapse(dem_column_case(*column, cell, true, true), *soil);
+  auto add = [&](double mu_r, const std::vector<DemColumn>& dem, const terrain::SoilFlowParameters& soil) {
+    for (const DemColumn& d : dem) {
+      if (!tube(d) || d.aspect > 2.0) continue;
+      rows += "| " + fmt("%g", mu_r) + " | " + column_name(d) + " | " + fmt("%.1f", soil.repose_angle_deg) + " | " +
+              pair(d.runout, d.height);
+      for (double cell : cells) {
+        const CollapseRun run = terrain::run_column_collapse(dem_column_case(d, cell, true, true), soil);
         rows += " | " + pair(run.runout_over_r0, run.final_height_over_r0);
       }
-    rows += " |\n";
-  }
+      rows += " |\n";
+    }
+  };
+  add(0.3, base, sand);
+  for (const FrictionStudyMaterial& m : kFrictionStudy)
+    add(m.rolling_friction, read_dem_columns(dem_dir, m.results), calibrated_flow(columns_material(dem_dir, m.results), sand));
   return header + "\n" + rule + "\n" + rows;
 }
 
@@ -262,11 +262,10 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "model's grains 0.04 r0. The DEM's r99 barely changes from 12.5 to 25 grains per radius; its edge (a quarter "
       "grain thick: 0.02 r0, then 0.01 r0) moves out to r99. Each cell: r99 / edge / height / t90.\n\n" +
       wide_header + "\n" + wide_rule + "\n" + wide_rows + "\n"
-      "The same tubes in a rougher material (dem/collapse/results_mu_r0.6, stage friction): the grains' rolling "
-      "friction 0.6 for 0.3, calibrated on the pile, the inclined layers and the erodible bed alone (repose " +
-      fmt("%.1f", calibrated_flow(columns_material(root / "dem", kRougherGrainsResults), sand).repose_angle_deg) +
-      " deg); the model takes each material's calibration and nothing from the tubes. Each cell: r99 / height "
-      "over r0.\n\n" + rougher_material_table(root / "dem", sand, cells) + "\n"
+      "The same tubes in materials whose grains' rolling friction is 0.6 and 0.15 for the calibrated 0.3 "
+      "(dem/collapse/results_mu_r0.6 and results_mu_r0.15, stage friction), each calibrated on the pile, the inclined "
+      "layers and the erodible bed alone; the model takes each material's calibration and nothing from the tubes. "
+      "Each cell: r99 / height over r0.\n\n" + friction_study_table(root / "dem", sand, cells) + "\n"
       "A heap fed at a known rate (dem/calibration/fed_heap.in, stages fed_heap and fed_heap_post): grains rain at Q "
       "(bulk m^2/s per metre of width) onto the top of a quasi-two-dimensional heap 0.32 m long against a wall and "
       "run off its open edge; the slope (the least-squares line through the heap's height from 0.08 m off the wall to "

@@ -14,8 +14,9 @@
 #                                            then "post"
 #   DEM_JOBS=2 scripts/dem_reference.sh      run independent decks two at a time (default 1)
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
+#   DEM_FRICTION_MU_RS="0.15"                the friction side study's materials (default "0.6 0.15")
 #
-# Takes about six and a half hours on one core (see dem/results_meta.csv). Never run in CI.
+# Takes about seven and a quarter hours on one core (see dem/results_meta.csv). Never run in CI.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -337,55 +338,71 @@ stage_collapse_post() {
   write_meta
 }
 
-# The friction side study (docs/fast_flows.md, "A rougher material"): the same grains with their
-# rolling friction FRICTION_MU_R for 0.3 (dem/material.in, mu_r), calibrated on the pile, the
-# inclined layers (on the grains, four thicknesses; on the columns' floor) and the erodible bed
-# alone, then its tubes of aspect ratio FRICTION_ASPECTS: whether the DEM's run-out follows the
-# material's friction as the model's does. Results, with the calibration's own material.csv, in
-# dem/collapse/results_mu_r$FRICTION_MU_R. The layers are kicked above this material's repose.
-FRICTION_MU_R=0.6
+# The friction side study (docs/fast_flows.md, "A rougher material, and a smoother one"): the same grains with their
+# rolling friction each of FRICTION_MU_RS for 0.3 (dem/material.in, mu_r), each calibrated on the
+# pile, the inclined layers (on the grains, four thicknesses; on the columns' floor) and the
+# erodible bed alone, then its tubes of aspect ratio FRICTION_ASPECTS: whether the DEM's run-out
+# follows the material's friction as the model's does. Results, with each calibration's own
+# material.csv, in dem/collapse/results_mu_r<mu_r>. The layers are kicked above each material's
+# repose and tilted to angles that bracket its stop angles; the bed's angles bracket its start.
+read -r -a FRICTION_MU_RS <<< "${DEM_FRICTION_MU_RS:-0.6 0.15}"
 FRICTION_ASPECTS=(0.5 1 2)
-FRICTION_CHUTE_RUNS=(
-  "grains_n4 1 4 0 52 46 44 42 40 38 36 34 32 30"
-  "grains_n8 1 8 0 48 40 38 36 34 32 30 28 26 24 22"
-  "grains_n16 1 16 0 46 36 34 32 30 28 26 24 22 20 18"
-  "grains_n64 1 64 0 44 34 32 30 28 26 24 22 20"
-  "floor_n8 3 8 0 44 28 26 24 22 20 18 16 14 12"
-)
-FRICTION_ERODIBLE_ANGLES=(29 30 31 32 33)
+# friction_chute_runs MU_R: the inclined-layer runs, "NAME BASE LAYERS WALL_GAP_M KICK_DEG ANGLES..."
+friction_chute_runs() {
+  case $1 in
+    0.6) printf '%s\n' "grains_n4 1 4 0 52 46 44 42 40 38 36 34 32 30" "grains_n8 1 8 0 48 40 38 36 34 32 30 28 26 24 22" \
+      "grains_n16 1 16 0 46 36 34 32 30 28 26 24 22 20 18" "grains_n64 1 64 0 44 34 32 30 28 26 24 22 20" \
+      "floor_n8 3 8 0 44 28 26 24 22 20 18 16 14 12" ;;
+    *) printf '%s\n' "grains_n4 1 4 0 50 44 42 40 38 36 34 32 30 28" "grains_n8 1 8 0 42 34 32 30 28 26 24 22 20" \
+      "grains_n16 1 16 0 38 32 30 28 26 24 22 20 18 16" "grains_n64 1 64 0 38 26 24 22 20 18 16" \
+      "floor_n8 3 8 0 38 24 22 20 18 16 14 12 10" ;;
+  esac
+}
+friction_erodible_angles() {
+  case $1 in
+    0.6) echo 29 30 31 32 33 ;;
+    *) echo 23 24 25 26 27 28 29 ;;
+  esac
+}
 stage_friction() {
-  local run name base layers gap kick angles a th f="$SCRATCH/friction" c="$DEM/calibration" co="$DEM/collapse"
-  local mu=(-var mu_r "$FRICTION_MU_R")
-  mkdir -p "$f/pile" "$f/chute" "$f/erodible" "$f/collapse"
-  throttle
-  run_deck friction_pile "$c" pile.in "${mu[@]}" -var meshdir "$(rel "$MESHES" "$c")" -var out "$(rel "$f/pile" "$c")" &
-  for run in "${FRICTION_CHUTE_RUNS[@]}"; do
-    read -r name base layers gap kick angles <<< "$run"
+  local mu run name base layers gap kick angles a th f c="$DEM/calibration" co="$DEM/collapse"
+  for mu in "${FRICTION_MU_RS[@]}"; do
+    f="$SCRATCH/friction_mu$mu"
+    mkdir -p "$f/pile" "$f/chute" "$f/erodible" "$f/collapse"
     throttle
-    # shellcheck disable=SC2086  # the angles are one argument each
-    run_deck "friction_chute_$name" "$c" chute.in "${mu[@]}" -var base "$base" -var layers "$layers" -var W "$gap" \
-      -var kick "$kick" -var theta $angles -var out "$(rel "$f/chute" "$c")" &
-  done
-  for th in "${FRICTION_ERODIBLE_ANGLES[@]}"; do
-    throttle
-    run_deck "friction_erodible_top4_theta$th" "$c" erodible.in "${mu[@]}" -var top 4 -var v0 0.5 -var theta "$th" \
-      -var trun 2.0 -var out "$(rel "$f/erodible" "$c")" &
-  done
-  for a in "${FRICTION_ASPECTS[@]}"; do
-    throttle
-    run_deck "friction_tube_a$a" "$co" column.in "${mu[@]}" -var a "$a" -var slot 0 -var out "$(rel "$f/collapse" "$co")" &
+    run_deck "friction_mu${mu}_pile" "$c" pile.in -var mu_r "$mu" -var meshdir "$(rel "$MESHES" "$c")" \
+      -var out "$(rel "$f/pile" "$c")" &
+    while read -r name base layers gap kick angles; do
+      throttle
+      # shellcheck disable=SC2086  # the angles are one argument each
+      run_deck "friction_mu${mu}_chute_$name" "$c" chute.in -var mu_r "$mu" -var base "$base" -var layers "$layers" \
+        -var W "$gap" -var kick "$kick" -var theta $angles -var out "$(rel "$f/chute" "$c")" &
+    done < <(friction_chute_runs "$mu")
+    for th in $(friction_erodible_angles "$mu"); do
+      throttle
+      run_deck "friction_mu${mu}_erodible_top4_theta$th" "$c" erodible.in -var mu_r "$mu" -var top 4 -var v0 0.5 \
+        -var theta "$th" -var trun 2.0 -var out "$(rel "$f/erodible" "$c")" &
+    done
+    for a in "${FRICTION_ASPECTS[@]}"; do
+      throttle
+      run_deck "friction_mu${mu}_tube_a$a" "$co" column.in -var mu_r "$mu" -var a "$a" -var slot 0 \
+        -var out "$(rel "$f/collapse" "$co")" &
+    done
   done
 }
 
 stage_friction_post() {
   wait_ok
-  local f="$SCRATCH/friction" res="$DEM/collapse/results_mu_r$FRICTION_MU_R"
-  mkdir -p "$res"
-  "$PY" "$DEM/tools/repose.py" "$f/pile/pile_final.dump" "$res/repose.csv"
-  "$PY" "$DEM/tools/chute.py" "$res" "$f/chute"
-  "$PY" "$DEM/tools/erodible.py" "$res" "$f/erodible"
-  "$PY" "$DEM/tools/material_csv.py" --flow "$res" "$res/material.csv"
-  "$PY" "$DEM/tools/collapse.py" "$f/collapse" "$res"
+  local mu f res
+  for mu in "${FRICTION_MU_RS[@]}"; do
+    f="$SCRATCH/friction_mu$mu" res="$DEM/collapse/results_mu_r$mu"
+    mkdir -p "$res"
+    "$PY" "$DEM/tools/repose.py" "$f/pile/pile_final.dump" "$res/repose.csv"
+    "$PY" "$DEM/tools/chute.py" "$res" "$f/chute"
+    "$PY" "$DEM/tools/erodible.py" "$res" "$f/erodible"
+    "$PY" "$DEM/tools/material_csv.py" --flow "$res" "$res/material.csv"
+    "$PY" "$DEM/tools/collapse.py" "$f/collapse" "$res"
+  done
   write_meta
 }
 

@@ -152,8 +152,8 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
   // a row per DEM column with its run-out and height and the automaton's at
   // 10 cm (a quick run), a row per fed heap run with the slopes, a row per
   // aspect ratio against the published run-out law (three soils with the
-  // fast flow and alone), a row per tube of the rougher material (the two
-  // DEMs and the model in each), one rung whose books stayed exact, its
+  // fast flow and alone), a row per tube and material of the friction study
+  // (the DEM's and the model's), one rung whose books stayed exact, its
   // point on the error plot and the three curves.
   {
     const std::string s = section(md, "## Collapsing columns against the DEM reference");
@@ -161,7 +161,7 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
     const auto rows = table_rows(s);
     ASSERT_GE(rows.size(), 2u);
     const std::size_t columns = rows.size() - 1;
-    std::size_t heap_rows = 0, law_rows = 0, rougher_rows = 0;
+    std::size_t heap_rows = 0, law_rows = 0, friction_rows = 0;
     for (std::size_t k = 0; k < columns; ++k) {
       if (rows[k].size() == 8u) {  // a, the published run-out, three soils at 10 cm, the same three alone
         ++law_rows;
@@ -169,10 +169,10 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
           EXPECT_GT(std::strtod(rows[k][c].c_str(), nullptr), 0.0) << "published law '" << rows[k][c] << "'";
         continue;
       }
-      if (rows[k].size() == 5u) {  // the rougher material: column, two DEMs, the model in each at 10 cm
-        ++rougher_rows;
-        for (std::size_t c = 1; c < 5; ++c)
-          EXPECT_GT(std::strtod(rows[k][c].c_str(), nullptr), 0.0) << "rougher material '" << rows[k][c] << "'";
+      if (rows[k].size() == 5u) {  // the friction study: rolling friction, column, repose, DEM, the model at 10 cm
+        ++friction_rows;
+        for (std::size_t c : {0u, 2u, 3u, 4u})
+          EXPECT_GT(std::strtod(rows[k][c].c_str(), nullptr), 0.0) << "friction study '" << rows[k][c] << "'";
         continue;
       }
       if (rows[k].size() == 4u) {  // the fed heap: Q, the DEM's slope, the automaton's and with the fast flow at 10 cm
@@ -187,7 +187,7 @@ TEST(SkidsimBenchReport, WritesThePageAndItsPlots) {
     }
     EXPECT_EQ(heap_rows, 7u) << "a row per DEM fed heap run (dem/calibration/results/fed_heap_summary.csv)";
     EXPECT_EQ(law_rows, 4u) << "a row per aspect ratio, 0.5 to 4";
-    EXPECT_EQ(rougher_rows, 3u) << "a row per tube of dem/collapse/results_mu_r0.6";
+    EXPECT_EQ(friction_rows, 9u) << "a row per tube (a = 0.5, 1, 2) and material (rolling friction 0.3, 0.6, 0.15)";
     EXPECT_GT(std::strtod(rows[columns][2].c_str(), nullptr), 0.0) << "a cost was measured";
     EXPECT_NE(rows[columns][3].find("books exact"), std::string::npos) << rows[columns][3];
     EXPECT_EQ(count(read(dir / "perf_collapse_error.svg"), "<circle"), 1u);
