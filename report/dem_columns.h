@@ -84,6 +84,8 @@ std::filesystem::path columns_material(const std::filesystem::path& dem_dir, con
 terrain::SoilFlowParameters calibrated_flow(const std::filesystem::path& material_csv, terrain::SoilFlowParameters base);
 
 std::string column_name(const DemColumn& c);  // "tube, a = 2", "slot, a = 2", "dropped 4 r0, a = 1"
+// A tube standing on the floor (not the slot, not a dropped column).
+inline bool standing_tube(const DemColumn& c) { return !c.slot && c.drop_over_r0 == 0.0; }
 // The DEM column's case on the grid at `cell_m`: the fast flow on when
 // `momentum`, at its defaults (bed friction the soil's flowing friction,
 // the core at the repose angle, raining) unless `raining` is false, on the

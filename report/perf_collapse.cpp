@@ -28,8 +28,6 @@ using terrain::CollapseCase;
 using terrain::CollapseRun;
 using terrain::GroundModel;
 
-bool tube(const DemColumn& c) { return !c.slot && c.drop_over_r0 == 0.0; }
-
 // The heap fed at known rates (experiments/fed_heap.h) against the DEM's:
 // the slope a pour onto a heap stands at for each feed, the automaton alone
 // and with the fast flow (the feed landing with its fall), at the columns'
@@ -80,16 +78,15 @@ std::string published_laws_table(const io::SoilTable& soils, const std::vector<d
 // The friction side study (kFrictionStudy): the DEM's tubes and the
 // model's in the calibrated material and in each other one, the model given
 // each calibration (calibrated_flow). Each cell: r99 / height over r0.
-std::string friction_study_table(const fs::path& dem_dir, const terrain::SoilFlowParameters& sand,
-                                 const std::vector<double>& cells) {
-  const std::vector<DemColumn> base = read_dem_columns(dem_dir);
+std::string friction_study_table(const fs::path& dem_dir, const std::vector<DemColumn>& base,
+                                 const terrain::SoilFlowParameters& sand, const std::vector<double>& cells) {
   std::string header = "| rolling friction | column | repose (deg) | DEM |", rule = "|---|---|---|---|";
   for (double cell : cells) header += " model, " + fmt("%g", cell * 100.0) + " cm |", rule += "---|";
   auto pair = [](double runout, double height) { return fmt("%.2f", runout) + " / " + fmt("%.2f", height); };
   std::string rows;
   auto add = [&](double mu_r, const std::vector<DemColumn>& dem, const terrain::SoilFlowParameters& soil) {
     for (const DemColumn& d : dem) {
-      if (!tube(d) || d.aspect > 2.0) continue;
+      if (!standing_tube(d) || d.aspect > 2.0) continue;
       rows += "| " + fmt("%g", mu_r) + " | " + column_name(d) + " | " + fmt("%.1f", soil.repose_angle_deg) + " | " +
               pair(d.runout, d.height);
       for (double cell : cells) {
@@ -143,11 +140,11 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   std::vector<Rung> rungs;
   std::string rows;
   for (const DemColumn& d : dem) {
-    if (!tube(d)) continue;
+    if (!standing_tube(d)) continue;
     runout_dem.points.emplace_back(d.aspect, d.runout), height_dem.points.emplace_back(d.aspect, d.height);
   }
   for (const DemColumn& d : dem)
-    if (tube(d) && d.aspect == 2.0) fronts.push_back({"DEM, tube a = 2", d.front});
+    if (standing_tube(d) && d.aspect == 2.0) fronts.push_back({"DEM, tube a = 2", d.front});
   std::vector<std::string> cells_rows(dem.size());
   for (const Variant& v : variants) {
     for (double cell : cells_of(v)) {
@@ -164,9 +161,9 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
         worst = std::max(worst, column_error(d, run));
         wall += run.wall_s, simulated += run.steps * c.step_dt_s;
         books = books && run.books_exact;
-        if (tube(d)) runout_curve.points.emplace_back(d.aspect, run.runout_over_r0), height.points.emplace_back(d.aspect, run.final_height_over_r0);
+        if (standing_tube(d)) runout_curve.points.emplace_back(d.aspect, run.runout_over_r0), height.points.emplace_back(d.aspect, run.final_height_over_r0);
         const auto front = scaled_front(run);
-        if (tube(d) && d.aspect == 2.0) {
+        if (standing_tube(d) && d.aspect == 2.0) {
           Curve f{label, {}};
           for (const auto& p : front)
             if (p.first <= 12.0) f.points.push_back(p);
@@ -265,7 +262,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "The same tubes in materials whose grains' rolling friction is 0.6 and 0.15 for the calibrated 0.3 "
       "(dem/collapse/results_mu_r0.6 and results_mu_r0.15, stage friction), each calibrated on the pile, the inclined "
       "layers and the erodible bed alone; the model takes each material's calibration and nothing from the tubes. "
-      "Each cell: r99 / height over r0.\n\n" + friction_study_table(root / "dem", sand, cells) + "\n"
+      "Each cell: r99 / height over r0.\n\n" + friction_study_table(root / "dem", dem, sand, cells) + "\n"
       "A heap fed at a known rate (dem/calibration/fed_heap.in, stages fed_heap and fed_heap_post): grains rain at Q "
       "(bulk m^2/s per metre of width) onto the top of a quasi-two-dimensional heap 0.32 m long against a wall and "
       "run off its open edge; the slope (the least-squares line through the heap's height from 0.08 m off the wall to "

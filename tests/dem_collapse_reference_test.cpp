@@ -236,7 +236,7 @@ TEST(DemCollapse, RainingBendsTheRunOutsGrowthLikeTheDem) {
   const Reference& s = reference();
   double dem2 = 0.0, dem4 = 0.0;
   for (const DemColumn& d : s.dem) {
-    if (d.slot || d.drop_over_r0 > 0.0) continue;
+    if (!standing_tube(d)) continue;
     if (d.aspect == 2.0) dem2 = d.runout;
     if (d.aspect == 4.0) dem4 = d.runout;
   }

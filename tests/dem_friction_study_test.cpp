@@ -62,8 +62,8 @@ std::vector<StudyRun> study(const FrictionStudyMaterial& m) {
   std::vector<StudyRun> out;
   for (double cell : {0.1, 0.05}) {
     for (const DemColumn& d : dem) {
-      const auto b = std::find_if(base.begin(), base.end(),
-                                  [&](const DemColumn& c) { return !c.slot && c.drop_over_r0 == 0.0 && c.aspect == d.aspect; });
+      const auto b =
+          std::find_if(base.begin(), base.end(), [&](const DemColumn& c) { return standing_tube(c) && c.aspect == d.aspect; });
       if (b == base.end()) throw std::runtime_error("no calibrated DEM tube of a = " + std::to_string(d.aspect));
       StudyRun r{column_name(d) + ", " + std::to_string(cell) + " m", d, *b,
                  terrain::run_column_collapse(dem_column_case(d, cell, true, true), soil),
