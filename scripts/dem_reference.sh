@@ -16,7 +16,7 @@
 #   DEM_SCRATCH=DIR                          dumps, restarts, logs (default <repo>/scratch/dem, git-ignored)
 #   DEM_FRICTION_MU_RS="0.15"                the friction side study's materials (default "0.6 0.15")
 #
-# Takes about seven and a quarter hours on one core (see dem/results_meta.csv). Never run in CI.
+# Takes about seven and two thirds hours on one core (see dem/results_meta.csv). Never run in CI.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -333,8 +333,10 @@ stage_collapse_post() {
   wait_ok
   mkdir -p "$DEM/collapse/results"
   "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse" "$DEM/collapse/results"
+  "$PY" "$DEM/tools/collapse_profiles.py" "$SCRATCH/collapse" "$DEM/collapse/results"
   mkdir -p "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0_M"
   "$PY" "$DEM/tools/collapse.py" "$SCRATCH/collapse_wide" "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0_M"
+  "$PY" "$DEM/tools/collapse_profiles.py" "$SCRATCH/collapse_wide" "$DEM/collapse/results_r0_$COLLAPSE_WIDE_R0_M"
   write_meta
 }
 
@@ -347,6 +349,10 @@ stage_collapse_post() {
 # repose and tilted to angles that bracket its stop angles; the bed's angles bracket its start.
 read -r -a FRICTION_MU_RS <<< "${DEM_FRICTION_MU_RS:-0.6 0.15}"
 FRICTION_ASPECTS=(0.5 1 2)
+# And each material's tubes of FRICTION_WIDE_ASPECTS twice as wide (r0 = COLLAPSE_WIDE_R0_M, 25 grains
+# per radius; results in results_mu_r<mu_r>/r0_<r0>): whether the DEM's response to the material
+# holds with more grains per radius.
+FRICTION_WIDE_ASPECTS=(1)
 # friction_chute_runs MU_R: the inclined-layer runs, "NAME BASE LAYERS WALL_GAP_M KICK_DEG ANGLES..."
 friction_chute_runs() {
   case $1 in
@@ -368,7 +374,7 @@ stage_friction() {
   local mu run name base layers gap kick angles a th f c="$DEM/calibration" co="$DEM/collapse"
   for mu in "${FRICTION_MU_RS[@]}"; do
     f="$SCRATCH/friction_mu$mu"
-    mkdir -p "$f/pile" "$f/chute" "$f/erodible" "$f/collapse"
+    mkdir -p "$f/pile" "$f/chute" "$f/erodible" "$f/collapse" "$f/collapse_wide"
     throttle
     run_deck "friction_mu${mu}_pile" "$c" pile.in -var mu_r "$mu" -var meshdir "$(rel "$MESHES" "$c")" \
       -var out "$(rel "$f/pile" "$c")" &
@@ -388,6 +394,11 @@ stage_friction() {
       run_deck "friction_mu${mu}_tube_a$a" "$co" column.in -var mu_r "$mu" -var a "$a" -var slot 0 \
         -var out "$(rel "$f/collapse" "$co")" &
     done
+    for a in "${FRICTION_WIDE_ASPECTS[@]}"; do
+      throttle
+      run_deck "friction_mu${mu}_wide_tube_a$a" "$co" column.in -var mu_r "$mu" -var a "$a" -var slot 0 \
+        -var r0 "$COLLAPSE_WIDE_R0_M" -var tend "$COLLAPSE_WIDE_TEND_S" -var out "$(rel "$f/collapse_wide" "$co")" &
+    done
   done
 }
 
@@ -402,6 +413,10 @@ stage_friction_post() {
     "$PY" "$DEM/tools/erodible.py" "$res" "$f/erodible"
     "$PY" "$DEM/tools/material_csv.py" --flow "$res" "$res/material.csv"
     "$PY" "$DEM/tools/collapse.py" "$f/collapse" "$res"
+    "$PY" "$DEM/tools/collapse_profiles.py" "$f/collapse" "$res"
+    mkdir -p "$res/r0_$COLLAPSE_WIDE_R0_M"
+    "$PY" "$DEM/tools/collapse.py" "$f/collapse_wide" "$res/r0_$COLLAPSE_WIDE_R0_M"
+    "$PY" "$DEM/tools/collapse_profiles.py" "$f/collapse_wide" "$res/r0_$COLLAPSE_WIDE_R0_M"
   done
   write_meta
 }

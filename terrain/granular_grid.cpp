@@ -115,6 +115,17 @@ void GranularGrid::set_covered(int cell, bool covered) {
   wake(cell);
 }
 
+void GranularGrid::set_held(int cell, bool held) {
+  if (held_.empty()) {
+    if (!held) return;
+    held_.assign(quanta_.size(), 0);
+  }
+  if ((held_[cell] != 0) == held) return;
+  held_[cell] = held ? 1 : 0;
+  held_count_ += held ? 1 : -1;
+  wake(cell);
+}
+
 std::int64_t GranularGrid::compact_quanta(int cell, std::int64_t quanta) {
   const std::int64_t q = std::max<std::int64_t>(0, std::min(quanta, quanta_[cell]));
   if (q == 0) return 0;
@@ -336,7 +347,7 @@ void GranularGrid::compute_flux(std::uint32_t cell, const FaceGeometry& g, CellF
   double q[4];
   for (int d = 0; d < 4; ++d) q[d] = face_flux_quanta(g.drop[d], g.tangential[d], inv_d, threshold * threshold, law_);
   flux.cell = cell;
-  flux.out = clamp_to_available(q, quanta_[cell]);
+  flux.out = clamp_to_available(q, sendable_quanta(cell));
 }
 
 __attribute__((always_inline)) inline std::array<std::int32_t, 4> GranularGrid::clamp_to_available(
@@ -583,7 +594,11 @@ __attribute__((target_clones("avx2", "default"))) void GranularGrid::dense_row_f
     }
   }
   const std::int64_t* __restrict available = quanta_.data() + row;
-  for (int i = 1; i < nx - 1; ++i) out[i] = clamp_to_available(q + 4 * i, available[i]);
+  if (held_count_ == 0) {
+    for (int i = 1; i < nx - 1; ++i) out[i] = clamp_to_available(q + 4 * i, available[i]);
+  } else {
+    for (int i = 1; i < nx - 1; ++i) out[i] = clamp_to_available(q + 4 * i, sendable_quanta(row + i));
+  }
   edge_cell(0);
   edge_cell(nx - 1);
 }
@@ -617,7 +632,7 @@ __attribute__((target_clones("avx2", "default"))) void GranularGrid::sparse_flux
     for (std::size_t k = 0; k < count; ++k) {
       const std::uint32_t c = current_[start + k];
       flux_[start + k].cell = c;
-      flux_[start + k].out = clamp_to_available(q + 4 * k, quanta_[c]);
+      flux_[start + k].out = clamp_to_available(q + 4 * k, sendable_quanta(c));
     }
   }
 }
@@ -660,7 +675,7 @@ void GranularGrid::slippage_fluxes() {
       q[f] = failure[f].fails ? std::min(moved_m * (1.0 / kHeightQuantumM), 2.0e9) + 0.5 : 0.0;
     }
     flux_[k].cell = c;
-    flux_[k].out = clamp_to_available(q, intact_fails ? quanta_[c] : loose);
+    flux_[k].out = clamp_to_available(q, held(static_cast<int>(c)) ? 0 : intact_fails ? quanta_[c] : loose);
     const std::int64_t sent = std::int64_t{flux_[k].out[0]} + flux_[k].out[1] + flux_[k].out[2] + flux_[k].out[3];
     speed = sent != 0 ? static_cast<float>(v) : 0.0f;  // nothing moved: nothing slides
     // What leaves goes from the top, loose first. Only this cell's own entry

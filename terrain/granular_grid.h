@@ -211,6 +211,11 @@ class GranularGrid {
   // (the body is in the way), in either direction.
   void set_covered(int cell, bool covered);
   bool covered(int cell) const { return (flags_[cell] & kCovered) != 0; }
+  // A cell whose material another model owns while it moves (the fast flow
+  // with MomentumFlowParameters::owns_cells): the avalanche sends nothing out
+  // of it; what arrives stays. The per-cell flags are allocated on first use.
+  void set_held(int cell, bool held);
+  bool held(int cell) const { return held_count_ != 0 && held_[cell] != 0; }
   // Compaction (Bekker plastic sinkage, thesis 5.4.1): loose material of the
   // cell becomes compacted material, which keeps its mass (the ledger counts
   // it in cells) but no longer stands in the column, so the surface drops.
@@ -355,6 +360,10 @@ class GranularGrid {
   std::vector<std::uint8_t> flags_;
   std::vector<std::int64_t> compacted_;  // allocated by the first compaction
   std::vector<std::int64_t> flow_x_, flow_y_;  // record_flow
+  // What the avalanche may send out of a cell: nothing where it is held.
+  std::int64_t sendable_quanta(std::uint32_t cell) const { return held_count_ != 0 && held_[cell] ? 0 : quanta_[cell]; }
+  std::vector<std::uint8_t> held_;  // per cell, once a cell was held (set_held)
+  std::int64_t held_count_ = 0;
   std::int64_t covered_count_ = 0;      // cells with kCovered: zero keeps the sweep's fast path
   std::vector<std::uint32_t> pending_;  // cells to examine in the next sweep
   std::vector<std::uint32_t> current_;  // cells examined in this sweep

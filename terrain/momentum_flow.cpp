@@ -34,6 +34,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
       courant_(params.courant),
       max_substeps_(params.max_substeps),
       raining_(params.raining),
+      owns_cells_(params.owns_cells),
       erosion_(params.erosion),
       layer_depth_(params.layer_depth) {
   const SoilFlowParameters& soil = grid.soil();
@@ -153,6 +154,7 @@ void MomentumFlow::reserve_cells(std::size_t cells) {
   cells = std::min(cells, flowing_.size());
   candidates_.reserve(cells), moving_.reserve(cells), rise_.reserve(cells), layer_.reserve(cells), keep_.reserve(cells);
   bed_floor_m_.reserve(cells);
+  if (owns_cells_) slowed_from_.reserve(cells), held_.reserve(cells);
   x_faces_.reserve(2 * cells), y_faces_.reserve(2 * cells), new_x_.reserve(2 * cells), new_y_.reserve(2 * cells);
   new_flowing_.reserve(8 * cells);
 }
@@ -258,6 +260,32 @@ void MomentumFlow::step(GranularGrid& grid) {
     ++substeps_run_;
   }
   for (int c : impacted_) impact_depth_[c] = 0, landed_m2_s_[c] = 0.0, impact_reach_[c] = 1.0;  // (the shaped pressure) ready for the next landings
+  if (owns_cells_) hold_flowing_cells(grid);
+}
+
+void MomentumFlow::hold_flowing_cells(GranularGrid& grid) {
+  for (int c : held_) grid.set_held(c, false);
+  held_.clear();
+  for (int c : moving_)
+    if (flowing_[c] > 0) grid.set_held(c, true), held_.push_back(c);
+}
+
+void MomentumFlow::lay_down_slowed() {
+  // A layer sheared at a rate that does not change as it slows moves at a
+  // mean speed in proportion to its thickness (a linear profile over the
+  // flowing depth h_f: u = gamma_dot h_f / 2); slowed by its friction from
+  // u0 to u, its lowest grains come to rest first, under the grains still
+  // running (the DEM's collapses: dem/collapse/results*/profile_*.csv), and
+  // it keeps u / u0 of its thickness. What it lays down is bed, the cell's
+  // static soil, and takes its share of the momentum (the faces' speeds
+  // stay).
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    const int c = candidates_[n];
+    if (flowing_[c] <= 0 || rain_[c] > 0) continue;
+    const double before = slowed_from_[n], after = speed_m_s(c);
+    if (!(before > 0.0) || after >= before) continue;
+    flowing_[c] -= static_cast<std::int64_t>(static_cast<double>(flowing_[c]) * (before - after) / before);
+  }
 }
 
 void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
@@ -278,9 +306,14 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
     mark_face(f[3], false), mark_face(f[2], false);
   }
   fail(grid, dt_s);
+  if (owns_cells_) {
+    slowed_from_.resize(candidates_.size());
+    for (std::size_t n = 0; n < candidates_.size(); ++n) slowed_from_[n] = speed_m_s(candidates_[n]);
+  }
   accelerate(grid, dt_s);
   transport(grid, dt_s);
   carry_momentum(grid);
+  if (owns_cells_) lay_down_slowed();
   settle(grid);
   // The flow at rest: its event is over, and what it laid down is bed at
   // rest like the rest.

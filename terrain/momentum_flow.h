@@ -62,7 +62,10 @@
 // rest), in sessions whose site turns it on (engine::World::enable_fast_flow:
 // what lands from a body joins the layer through land()) and in the collapse
 // experiment (experiments/column_collapse.h). Cells start moving when woken
-// (wake_all, land) or beside a moving cell.
+// (wake_all, land) or beside a moving cell. With owns_cells (a study, off by
+// default) the automaton leaves the flowing layer's cells to the flow, and
+// a slowing layer lays its base down instead (docs/fast_flows.md, "A flow
+// that owns its cells").
 #pragma once
 
 #include <array>
@@ -137,6 +140,14 @@ struct MomentumFlowParameters {
   // Failed material falls freely and lands without horizontal momentum
   // (Larrieu et al. 2006); false: it joins the flowing layer at once.
   bool raining = true;
+  // The flow owns its cells (docs/fast_flows.md, "A flow that owns its
+  // cells"): the automaton moves nothing out of a cell that holds a flowing
+  // layer (GranularGrid::set_held), and a layer that slows lays its base
+  // down as bed, keeping the share of its thickness its speed keeps (its
+  // base comes to rest first, as the DEM's collapses show). false (the
+  // default): the automaton acts on the flow's cells too, where it stands in
+  // for that deposition.
+  bool owns_cells = false;
   int max_substeps = 64;
 };
 
@@ -276,6 +287,11 @@ class MomentumFlow {
   void transport(GranularGrid& grid, double dt_s);
   void carry_momentum(const GranularGrid& grid);
   void settle(const GranularGrid& grid);
+  // owns_cells: the layers that slowed in this sub-step lay down their base
+  // (slowed_from_ holds the candidates' speeds before it); the cells with a
+  // flowing layer held from the automaton until the next step.
+  void lay_down_slowed();
+  void hold_flowing_cells(GranularGrid& grid);
   void mark(int cell);
   void mark_face(int face, bool x);
   // The speed of a face from the other direction's four faces around it.
@@ -288,7 +304,9 @@ class MomentumFlow {
   double mu_ = 0.0, bed_start_tan_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0, pressed_steps_ = 0;
-  bool raining_ = true, erosion_ = true;
+  bool raining_ = true, erosion_ = true, owns_cells_ = false;
+  std::vector<double> slowed_from_;  // owns_cells: the candidates' speeds before a sub-step (m/s)
+  std::vector<int> held_;            // owns_cells: the cells held from the automaton
   MomentumFlowParameters::LayerDepth layer_depth_ = MomentumFlowParameters::LayerDepth::kMobile;
   // The landings' impact (land): the sheet speed ratio c; per cell the
   // landed thickness times its fall speed since the last step (m^2/s: the

@@ -5,7 +5,7 @@
 // a Coulomb block on the bare base and on a deep bed (the thin-layer law on
 // the depth the layer moves in: its own over a bed below its start angle,
 // the whole depth with none; or either as asked), erosion, the bound refused
-// past its limit, and
+// past its limit, a flow owning its cells, and
 // a terrain at rest costing nothing.
 #include <gtest/gtest.h>
 
@@ -57,6 +57,23 @@ TEST(MomentumFlow, ACollapseKeepsExactBooksAndRepeatsBitForBit) {
   CollapseCase slow = c;
   slow.momentum = false;
   EXPECT_GT(a.runout_over_r0, 1.2 * run_column_collapse(slow, SoilFlowParameters{}).runout_over_r0);
+}
+
+// The flow owning its cells (owns_cells: the automaton off the layer's
+// cells, the layer laying its base down as it slows) keeps the books exact,
+// repeats bit for bit and comes to rest.
+TEST(MomentumFlow, AFlowOwningItsCellsKeepsExactBooksAndComesToRest) {
+  CollapseCase c = momentum_case(2.0, 0.1);
+  c.momentum_params.owns_cells = true;
+  const CollapseRun a = run_column_collapse(c, SoilFlowParameters{});
+  const CollapseRun b = run_column_collapse(c, SoilFlowParameters{});
+  EXPECT_TRUE(a.books_exact);
+  EXPECT_TRUE(a.flow_at_rest);
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (std::size_t k = 0; k < a.frames.size(); ++k) {
+    EXPECT_EQ(a.frames[k].front_r99_m, b.frames[k].front_r99_m) << k;
+    EXPECT_EQ(a.frames[k].centre_height_m, b.frames[k].centre_height_m) << k;
+  }
 }
 
 // A slot's side walls hold the layer back (Jop et al. 2005): the same column

@@ -1,0 +1,134 @@
+// The fast flow owning its cells (MomentumFlowParameters::owns_cells: the
+// automaton off the flowing layer's cells, the layer laying its base down as
+// it slows), a study beside the shipped model, against the same independent
+// references: the published run-out law with the sessions' sands, the DEM's
+// calibrated tubes at 12.5 and 25 grains per radius, its dropped column and
+// slot, and the friction study's three materials. docs/fast_flows.md, "A
+// flow that owns its cells".
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "experiments/column_collapse.h"
+#include "io/soil_table.h"
+#include "report/dem_columns.h"
+
+namespace skidsim::report::perf {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path dem_dir() { return fs::path(io::default_assets_dir()).parent_path() / "dem"; }
+
+terrain::CollapseRun run_owned(terrain::CollapseCase c, const terrain::SoilFlowParameters& soil) {
+  c.momentum_params.owns_cells = true;
+  return terrain::run_column_collapse(c, soil);
+}
+
+// The sessions' sands, 15-44 % short of the published law with the shipped
+// model (collapse_published_laws_test.cpp), come within 11 % at 10 and 5 cm
+// (dry_sand -3 to +5 %, lete_sand -11 to -2 %).
+TEST(FlowOwningItsCells, TheSessionsSandsMeetThePublishedLaw) {
+  const auto table = io::load_soil_table(io::default_soil_table_path());
+  for (const char* name : {"dry_sand", "lete_sand"}) {
+    for (double cell : {0.1, 0.05}) {
+      for (double a : {0.5, 1.0, 2.0, 4.0}) {
+        const terrain::CollapseRun run = run_owned(terrain::laboratory_column_case(a, cell), table.at(name).flow);
+        const double law = terrain::published_runout_over_r0(a), error = run.runout_over_r0 / law - 1.0;
+        std::printf("[ measured ] owning its cells, %s, a = %g at %g m: run-out %.2f r0 (published law %.2f, %+.1f %%), "
+                    "height %.2f r0\n",
+                    name, a, cell, run.runout_over_r0, law, 100.0 * error, run.final_height_over_r0);
+        const std::string where = std::string(name) + ", a = " + std::to_string(a) + ", " + std::to_string(cell) + " m";
+        EXPECT_TRUE(run.books_exact && run.flow_at_rest) << where;
+        EXPECT_LT(std::abs(error), 0.15) << where;
+      }
+    }
+  }
+}
+
+// dem_sand against its DEM's standing tubes (a = 0.5 to 4 at 12.5 grains per
+// radius, 0.5 to 2 at 25): r99 within 15 % at 10 and 5 cm (the shipped
+// model: 3-32 % short); but the heights up to 29 % low at a >= 2 (held at
+// 30 %) and the edges 6-25 % long (the shipped model's within 5 % on the
+// 12.5-grain tubes).
+TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
+  const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  for (const char* folder : {"results", kWideTubeResults}) {
+    for (const DemColumn& d : read_dem_columns(dem_dir(), folder)) {
+      if (!standing_tube(d)) continue;
+      for (double cell : {0.1, 0.05}) {
+        const terrain::CollapseCase c = dem_column_case(d, cell, true, true);
+        const terrain::CollapseRun run = run_owned(c, sand), shipped = terrain::run_column_collapse(c, sand);
+        std::printf("[ measured ] owning its cells, %s, %.1f grains per radius, a = %g at %g r0: r99 %.2f (DEM %.2f, %+.1f %%; shipped %.2f), "
+                    "edge %.2f (DEM %.2f; shipped %.2f), height %.2f (DEM %.2f, %+.1f %%; shipped %.2f)\n",
+                    folder, 1.0 / d.grain_diameter_over_r0, d.aspect, cell, run.runout_over_r0, d.runout, 100.0 * (run.runout_over_r0 / d.runout - 1.0),
+                    shipped.runout_over_r0, run.edge_runout_over_r0, d.edge_runout, shipped.edge_runout_over_r0,
+                    run.final_height_over_r0, d.height, 100.0 * (run.final_height_over_r0 / d.height - 1.0),
+                    shipped.final_height_over_r0);
+        const std::string where = std::string(folder) + ", " + column_name(d) + ", " + std::to_string(cell);
+        EXPECT_TRUE(run.books_exact && run.flow_at_rest) << where;
+        EXPECT_LT(std::abs(run.runout_over_r0 / d.runout - 1.0), 0.15) << where;
+        EXPECT_LT(std::abs(run.final_height_over_r0 / d.height - 1.0), 0.30) << where;
+      }
+    }
+  }
+}
+
+// The landing and the channel: the dropped column stops short (r99 66-68 %
+// under the DEM's, the shipped model's 40 and 60 %; the edge 17-20 % short,
+// the shipped model's +19 and -2 %) and the slot runs 21-26 % long (the
+// shipped model 7-9 %). Held here: exact books and rest.
+TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
+  const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  for (const DemColumn& d : read_dem_columns(dem_dir())) {
+    if (standing_tube(d)) continue;
+    for (double cell : {0.1, 0.05}) {
+      const terrain::CollapseCase c = dem_column_case(d, cell, true, true);
+      const terrain::CollapseRun run = run_owned(c, sand), shipped = terrain::run_column_collapse(c, sand);
+      std::printf("[ measured ] owning its cells, %s at %g r0: r99 %.2f (DEM %.2f; shipped %.2f), edge %.2f (DEM %.2f; "
+                  "shipped %.2f), height %.2f (DEM %.2f; shipped %.2f)\n",
+                  column_name(d).c_str(), cell, run.runout_over_r0, d.runout, shipped.runout_over_r0, run.edge_runout_over_r0,
+                  d.edge_runout, shipped.edge_runout_over_r0, run.final_height_over_r0, d.height, shipped.final_height_over_r0);
+      EXPECT_TRUE(run.books_exact && run.flow_at_rest) << column_name(d) << ", " << cell;
+    }
+  }
+}
+
+// The friction study's materials: the owning flow's run-out follows the
+// material the DEM's way (the smoother longer, the rougher shorter) but
+// faintly: r99 +9-10 % and -4 % at a = 1 where the DEM's moves +61 and
+// -22 %. Its deposition keeps the same share of a slowing layer's
+// thickness on every material, where the DEM's profiles
+// (profile_summary.csv) show the smoother grains' base sliding (28-43 % of
+// the top's speed behind the front) and the rougher's at rest (3-5 %).
+TEST(FlowOwningItsCells, FollowsTheMaterialTheDemsWayButFaintly) {
+  const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  const std::vector<DemColumn> calibrated = read_dem_columns(dem_dir());
+  for (double cell : {0.1, 0.05}) {
+    for (double a : {0.5, 1.0, 2.0}) {
+      double r99[3] = {0.0, 0.0, 0.0};  // smoother, calibrated, rougher
+      const char* folders[3] = {kFrictionStudy[1].results, "results", kFrictionStudy[0].results};
+      for (int m = 0; m < 3; ++m) {
+        const terrain::SoilFlowParameters soil = m == 1 ? sand : calibrated_flow(columns_material(dem_dir(), folders[m]), sand);
+        for (const DemColumn& d : m == 1 ? calibrated : read_dem_columns(dem_dir(), folders[m]))
+          if (standing_tube(d) && d.aspect == a) {
+            const terrain::CollapseRun run = run_owned(dem_column_case(d, cell, true, true), soil);
+            EXPECT_TRUE(run.books_exact && run.flow_at_rest) << folders[m] << ", a = " << a;
+            r99[m] = run.runout_over_r0;
+            std::printf("[ measured ] owning its cells, %s, a = %g at %g r0: r99 %.2f (DEM %.2f)\n", folders[m], a, cell,
+                        run.runout_over_r0, d.runout);
+          }
+      }
+      ASSERT_GT(r99[1], 0.0);
+      EXPECT_GT(r99[0], r99[1]) << "a = " << a << ", " << cell;
+      EXPECT_GT(r99[1], r99[2]) << "a = " << a << ", " << cell;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace skidsim::report::perf
