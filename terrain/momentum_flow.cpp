@@ -273,8 +273,9 @@ void MomentumFlow::hold_flowing_cells(GranularGrid& grid) {
 void MomentumFlow::lay_down_slowed() {
   // A layer sheared at a rate that does not change as it slows moves at a
   // mean speed in proportion to its thickness (a linear profile over the
-  // flowing depth h_f: u = gamma_dot h_f / 2); slowed by its friction from
-  // u0 to u, its lowest grains come to rest first, under the grains still
+  // flowing depth h_f: u = gamma_dot h_f / 2); slowed from u0 to u (its
+  // centre's speed: friction, a slope against it, slower arrivals), its
+  // lowest grains come to rest first, under the grains still
   // running (the DEM's collapses: dem/collapse/results*/profile_*.csv), and
   // it keeps u / u0 of its thickness. What it lays down is bed, the cell's
   // static soil, and takes its share of the momentum (the faces' speeds

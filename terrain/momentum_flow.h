@@ -146,7 +146,8 @@ struct MomentumFlowParameters {
   // down as bed, keeping the share of its thickness its speed keeps (its
   // base comes to rest first, as the DEM's collapses show). false (the
   // default): the automaton acts on the flow's cells too, where it stands in
-  // for that deposition.
+  // for that deposition. The cells stay held until the flow's step that
+  // finds them at rest; a flow dropped while it moves leaves them held.
   bool owns_cells = false;
   int max_substeps = 64;
 };

@@ -98,8 +98,8 @@ TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
   }
 }
 
-// The friction study's materials: the owning flow's run-out follows the
-// material the DEM's way (the smoother longer, the rougher shorter) but
+// The friction study's materials: the owning flow's run-outs stand in the
+// DEM's order (the smoother longer, the rougher shorter) but apart
 // faintly: r99 +9-10 % and -4 % at a = 1 where the DEM's moves +61 and
 // -22 %. Its deposition keeps the same share of a slowing layer's
 // thickness on every material, where the DEM's profiles

@@ -76,6 +76,35 @@ TEST(MomentumFlow, AFlowOwningItsCellsKeepsExactBooksAndComesToRest) {
   }
 }
 
+// It holds its cells from the automaton while they move and lets every one
+// go by the step that finds the flow at rest.
+TEST(MomentumFlow, AFlowOwningItsCellsHoldsThemOnlyWhileTheyMove) {
+  GridSpec spec;
+  spec.nx = spec.ny = 40;
+  spec.cell_size_m = 0.1;
+  spec.origin_m = Eigen::Vector2d::Constant(-2.0);
+  GranularGrid g(spec, SoilFlowParameters{}, 0.002, 100000);
+  for (int j = 0; j < spec.ny; ++j)
+    for (int i = 0; i < spec.nx; ++i)
+      if ((spec.origin_m + 0.1 * Eigen::Vector2d(i, j)).norm() < 0.5) g.set_material_m(i, j, 1.0);
+  MomentumFlowParameters p;
+  p.owns_cells = true;
+  MomentumFlow flow(g, p, 0.002);
+  flow.wake_all(g);
+  bool held_while_moving = false;
+  for (int s = 0; s < 20000 && !(s > 0 && flow.moving_cells() == 0 && g.at_rest()); ++s) {
+    g.step();
+    flow.step(g);
+    for (int c : flow.moving()) held_while_moving |= g.held(c);
+  }
+  ASSERT_EQ(flow.moving_cells(), 0u);
+  EXPECT_TRUE(held_while_moving);
+  int held = 0;
+  for (int c = 0; c < spec.nx * spec.ny; ++c) held += g.held(c) ? 1 : 0;
+  EXPECT_EQ(held, 0);
+  EXPECT_TRUE(g.ledger().balanced());
+}
+
 // A slot's side walls hold the layer back (Jop et al. 2005): the same column
 // runs out less between rough walls than between frictionless ones.
 // A tube spreads round on the square grid: momentum crosses into the other

@@ -19,8 +19,9 @@ holding at least 30 grains whose top moves at 0.05 m/s or more:
   base_m_s        the mean radial velocity of the grains whose centres lie in
                   the lowest d50 (the layer on the floor)
   top_m_s         the same above 0.6 of the depth
-  rest_layers     how many layers d50 thick, from the floor up, move at under
-                  a tenth of the top's speed (grains come to rest there)
+  rest_layers     how many layers d50 thick, from the floor up, move along
+                  the radius, either way, at under a tenth of the top's
+                  speed (grains come to rest there)
 
 and one row per tube in profile_summary.csv: the mean of base / top over the
 rings behind each frame's outermost ring (behind_base_over_top) and over the
@@ -62,13 +63,13 @@ def ring_row(grains):
     heights = sorted(z for z, _ in grains)
     depth = heights[min(len(heights) - 1, int(0.98 * len(heights)))]
     top = mean([u for z, u in grains if z > 0.6 * depth])
-    if not top >= MOVING_M_S:
-        return None
     base = mean([u for z, u in grains if z < D50_M])
+    if not top >= MOVING_M_S or math.isnan(base):
+        return None
     rest = 0
     for k in range(int(depth / D50_M) + 1):
         layer = [u for z, u in grains if k * D50_M <= z < (k + 1) * D50_M]
-        if not layer or mean(layer) >= REST_SHARE * top:
+        if not layer or abs(mean(layer)) >= REST_SHARE * top:
             break
         rest += 1
     return depth / D50_M, base, top, rest
