@@ -34,8 +34,8 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
       courant_(params.courant),
       max_substeps_(params.max_substeps),
       raining_(params.raining),
-      owns_cells_(params.owns_cells),
       erosion_(params.erosion),
+      owns_cells_(params.owns_cells),
       layer_depth_(params.layer_depth) {
   const SoilFlowParameters& soil = grid.soil();
   const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.flowing_friction_deg();
