@@ -105,9 +105,9 @@ std::string friction_study_table(const fs::path& dem_dir, const std::vector<DemC
 }  // namespace
 
 ReportSection collapse_dem_section(const ReportContext& ctx) {
-  const fs::path root = fs::path(io::default_assets_dir()).parent_path();
-  const std::vector<DemColumn> dem = read_dem_columns(root / "dem");
-  if (dem.empty()) throw std::runtime_error("performance report: no DEM columns in " + (root / "dem").string());
+  const fs::path dem_dir = repository_dem_dir();
+  const std::vector<DemColumn> dem = read_dem_columns(dem_dir);
+  if (dem.empty()) throw std::runtime_error("performance report: no DEM columns in " + dem_dir.string());
   const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
   const io::SoilRecord dem_sand = soils.at("dem_sand");
   const terrain::SoilFlowParameters& sand = dem_sand.flow;
@@ -192,7 +192,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   // model's dependence on r0 / d against the DEM's.
   std::string wide_rows;
   const std::vector<double> wide_cells = ctx.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.05, 0.025};
-  for (const DemColumn& d : read_dem_columns(root / "dem", kWideTubeResults)) {
+  for (const DemColumn& d : read_dem_columns(dem_dir, kWideTubeResults)) {
     wide_rows += "| " + column_name(d) + " | " + fmt("%.2f", d.runout) + " / " + fmt("%.2f", d.edge_runout) + " / " +
                  fmt("%.2f", d.height) + " / " + fmt("%.1f", front_arrival(d.front, 0.9));
     for (double cell : wide_cells) {
@@ -262,14 +262,14 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "The same tubes in materials whose grains' rolling friction is 0.6 and 0.15 for the calibrated 0.3 "
       "(dem/collapse/results_mu_r0.6 and results_mu_r0.15, stage friction), each calibrated on the pile, the inclined "
       "layers and the erodible bed alone; the model takes each material's calibration and nothing from the tubes. "
-      "Each cell: r99 / height over r0.\n\n" + friction_study_table(root / "dem", dem, sand, cells) + "\n"
+      "Each cell: r99 / height over r0.\n\n" + friction_study_table(dem_dir, dem, sand, cells) + "\n"
       "A heap fed at a known rate (dem/calibration/fed_heap.in, stages fed_heap and fed_heap_post): grains rain at Q "
       "(bulk m^2/s per metre of width) onto the top of a quasi-two-dimensional heap 0.32 m long against a wall and "
       "run off its open edge; the slope (the least-squares line through the heap's height from 0.08 m off the wall to "
       "0.06 m short of the edge) from 6 to 20 s. The DEM's heap sheds its feed in surges (the 5th and 95th "
       "percentiles: about where they stop and where they start). skidsim's heap is the same scaled by " +
       fmt("%g", kFedHeapLambda) + " (experiments/fed_heap.h), its slope averaged over the same window, the automaton "
-      "alone and with the fast flow, the feed landing with its fall. Each cell: the mean slope in degrees.\n\n" + fed_heap_table(root / "dem", sand, cells) + "\n"
+      "alone and with the fast flow, the feed landing with its fall. Each cell: the mean slope in degrees.\n\n" + fed_heap_table(dem_dir, sand, cells) + "\n"
       "The columns at the grain size of a laboratory or a session, against the published run-out law for "
       "axisymmetric collapses, (r_inf - r0) / r0 = 1.24 a below a = 1.7 and 1.6 a^0.5 above (Lube et al. 2004, on "
       "sand, salt, rice, couscous and sugar alike; independent of the DEM): tubes at r0 = 1 m with the soils' own "

@@ -23,8 +23,7 @@ namespace skidsim::report::perf {
 namespace fs = std::filesystem;
 
 ReportSection digging_dem_section(const ReportContext& ctx) {
-  const fs::path root = fs::path(io::default_assets_dir()).parent_path();
-  const fs::path dem_dir = root / "dem" / "blade" / "results";
+  const fs::path dem_dir = repository_dem_dir() / "blade" / "results";
   std::vector<DemBlade> cases = read_dem_blades(dem_dir);
   if (ctx.quick && cases.size() > 1) cases.resize(1);
   const std::vector<double> rungs = ctx.quick ? std::vector<double>{10} : std::vector<double>{10, 20};

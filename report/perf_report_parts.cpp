@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/soil_table.h"
+
 namespace skidsim::report::perf {
 
 nlohmann::json read_summary(const std::filesystem::path& dir) {
@@ -37,6 +39,8 @@ CsvNumbers read_csv_numbers(const std::filesystem::path& path) {
   }
   return out;
 }
+
+std::filesystem::path repository_dem_dir() { return std::filesystem::path(io::default_assets_dir()).parent_path() / "dem"; }
 
 std::map<std::string, double> read_csv_quantities(const std::filesystem::path& path, std::size_t value_column) {
   std::ifstream in(path);

@@ -120,6 +120,10 @@ CsvNumbers read_csv_numbers(const std::filesystem::path& path);
 // value is not a number.
 std::map<std::string, double> read_csv_quantities(const std::filesystem::path& path, std::size_t value_column = 1);
 
+// The repository's dem/ (the DEM reference's decks and results), beside the
+// assets folder (io::default_assets_dir).
+std::filesystem::path repository_dem_dir();
+
 // A job's summary.json in `dir`; throws naming the folder when it is missing.
 nlohmann::json read_summary(const std::filesystem::path& dir);
 

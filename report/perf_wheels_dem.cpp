@@ -46,8 +46,7 @@ double wheel_error_against_dem(const DemWheel& dem, double sinkage_m, double pul
 }
 
 ReportSection wheels_dem_section(const ReportContext& ctx) {
-  const fs::path root = fs::path(io::default_assets_dir()).parent_path();
-  const std::vector<DemWheel> runs = read_dem_wheels(root / "dem" / "wheel" / "results");
+  const std::vector<DemWheel> runs = read_dem_wheels(repository_dem_dir() / "wheel" / "results");
   const io::SoilRecord soil = io::load_soil_table(io::default_soil_table_path()).at("dem_sand");
   const std::vector<double> ladder = ctx.quick ? std::vector<double>{kSessionCellsPerDiameter10cm}
                                                : std::vector<double>{kSessionCellsPerDiameter10cm,

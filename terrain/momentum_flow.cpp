@@ -264,10 +264,16 @@ void MomentumFlow::step(GranularGrid& grid) {
 }
 
 void MomentumFlow::hold_flowing_cells(GranularGrid& grid) {
-  for (int c : held_) grid.set_held(c, false);
-  held_.clear();
+  // A cell with a flowing layer is a moving cell (settle); one that lost its
+  // layer goes back to the automaton, the others stay held.
+  std::size_t kept = 0;
+  for (int c : held_) {
+    if (flowing_[c] > 0) held_[kept++] = c;
+    else grid.set_held(c, false);
+  }
+  held_.resize(kept);
   for (int c : moving_)
-    if (flowing_[c] > 0) grid.set_held(c, true), held_.push_back(c);
+    if (flowing_[c] > 0 && !grid.held(c)) grid.set_held(c, true), held_.push_back(c);
 }
 
 void MomentumFlow::lay_down_slowed() {

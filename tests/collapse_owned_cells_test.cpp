@@ -16,13 +16,10 @@
 #include "experiments/column_collapse.h"
 #include "io/soil_table.h"
 #include "report/dem_columns.h"
+#include "report/perf_report_parts.h"
 
 namespace skidsim::report::perf {
 namespace {
-
-namespace fs = std::filesystem;
-
-fs::path dem_dir() { return fs::path(io::default_assets_dir()).parent_path() / "dem"; }
 
 terrain::CollapseRun run_owned(terrain::CollapseCase c, const terrain::SoilFlowParameters& soil) {
   c.momentum_params.owns_cells = true;
@@ -58,7 +55,7 @@ TEST(FlowOwningItsCells, TheSessionsSandsMeetThePublishedLaw) {
 TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   for (const char* folder : {"results", kWideTubeResults}) {
-    for (const DemColumn& d : read_dem_columns(dem_dir(), folder)) {
+    for (const DemColumn& d : read_dem_columns(repository_dem_dir(), folder)) {
       if (!standing_tube(d)) continue;
       for (double cell : {0.1, 0.05}) {
         const terrain::CollapseCase c = dem_column_case(d, cell, true, true);
@@ -84,7 +81,7 @@ TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
 // shipped model 7-9 %). Held here: exact books and rest.
 TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
-  for (const DemColumn& d : read_dem_columns(dem_dir())) {
+  for (const DemColumn& d : read_dem_columns(repository_dem_dir())) {
     if (standing_tube(d)) continue;
     for (double cell : {0.1, 0.05}) {
       const terrain::CollapseCase c = dem_column_case(d, cell, true, true);
@@ -107,22 +104,27 @@ TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
 // the top's speed behind the front) and the rougher's at rest (3-5 %).
 TEST(FlowOwningItsCells, FollowsTheMaterialTheDemsWayButFaintly) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
-  const std::vector<DemColumn> calibrated = read_dem_columns(dem_dir());
+  // Smoother, calibrated, rougher: each material's soil and DEM columns, read once.
+  const char* folders[3] = {kFrictionStudy[1].results, "results", kFrictionStudy[0].results};
+  std::vector<terrain::SoilFlowParameters> soils;
+  std::vector<std::vector<DemColumn>> columns;
+  for (const char* folder : folders) {
+    soils.push_back(calibrated_flow(columns_material(repository_dem_dir(), folder), sand));
+    columns.push_back(read_dem_columns(repository_dem_dir(), folder));
+  }
+  soils[1] = sand;  // dem_sand's own table (its calibration's: dem_friction_study_test)
   for (double cell : {0.1, 0.05}) {
     for (double a : {0.5, 1.0, 2.0}) {
-      double r99[3] = {0.0, 0.0, 0.0};  // smoother, calibrated, rougher
-      const char* folders[3] = {kFrictionStudy[1].results, "results", kFrictionStudy[0].results};
-      for (int m = 0; m < 3; ++m) {
-        const terrain::SoilFlowParameters soil = m == 1 ? sand : calibrated_flow(columns_material(dem_dir(), folders[m]), sand);
-        for (const DemColumn& d : m == 1 ? calibrated : read_dem_columns(dem_dir(), folders[m]))
+      double r99[3] = {0.0, 0.0, 0.0};
+      for (int m = 0; m < 3; ++m)
+        for (const DemColumn& d : columns[m])
           if (standing_tube(d) && d.aspect == a) {
-            const terrain::CollapseRun run = run_owned(dem_column_case(d, cell, true, true), soil);
+            const terrain::CollapseRun run = run_owned(dem_column_case(d, cell, true, true), soils[m]);
             EXPECT_TRUE(run.books_exact && run.flow_at_rest) << folders[m] << ", a = " << a;
             r99[m] = run.runout_over_r0;
             std::printf("[ measured ] owning its cells, %s, a = %g at %g r0: r99 %.2f (DEM %.2f)\n", folders[m], a, cell,
                         run.runout_over_r0, d.runout);
           }
-      }
       ASSERT_GT(r99[1], 0.0);
       EXPECT_GT(r99[0], r99[1]) << "a = " << a << ", " << cell;
       EXPECT_GT(r99[1], r99[2]) << "a = " << a << ", " << cell;

@@ -53,15 +53,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path dem_dir() { return fs::path(io::default_assets_dir()).parent_path() / "dem"; }
-
 struct Reference {
   std::vector<DemColumn> dem, wide;  // the tubes of r0 = 0.1 m and the slot; the tubes twice as wide
   io::SoilRecord sand;
 };
 
 const Reference& reference() {
-  static const Reference s{read_dem_columns(dem_dir()), read_dem_columns(dem_dir(), kWideTubeResults),
+  static const Reference s{read_dem_columns(repository_dem_dir()), read_dem_columns(repository_dem_dir(), kWideTubeResults),
                            io::load_soil_table(io::default_soil_table_path()).at("dem_sand")};
   return s;
 }
@@ -96,7 +94,7 @@ TEST(DemCollapse, TheMassGapIsKolmogorovSmirnovsDistance) {
 // A DEM reference without a column's deposit, or with one whose bins do
 // not start at the axis, is refused, naming the file (and the row).
 TEST(DemCollapse, AMissingDepositIsNamed) {
-  const fs::path dem = dem_dir();
+  const fs::path dem = repository_dem_dir();
   const fs::path copy = fs::temp_directory_path() / "skidsim_dem_columns_missing_deposit";
   fs::remove_all(copy);
   fs::create_directories(copy / "collapse");
@@ -345,7 +343,7 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
 // cake (+43-78 %), yet lower than with the fall lost (docs/fast_flows.md).
 TEST(DemCollapse, TheSessionsSandsSpreadADumpToTheDemsEdge) {
   const Reference& s = reference();
-  const fs::path material_path = dem_dir() / "calibration/material.csv";
+  const fs::path material_path = repository_dem_dir() / "calibration/material.csv";
   const double measured_c = read_csv_quantities(material_path).at("impact_sheet_speed_ratio");
   const auto table = io::load_soil_table(io::default_soil_table_path());
   const DemColumn* dropped = nullptr;
@@ -393,7 +391,7 @@ TEST(DemCollapse, TheSessionsSandsSpreadADumpToTheDemsEdge) {
 // (+6 / +21 %) (docs/fast_flows.md).
 TEST(DemCollapse, AGranularJetLandsWhereTheDemsDid) {
   const Reference& s = reference();
-  const fs::path path = dem_dir() / "calibration/results/impact_summary.csv";
+  const fs::path path = repository_dem_dir() / "calibration/results/impact_summary.csv";
   const std::map<std::string, double> jet = read_csv_quantities(path);
   DemColumn d = s.dem.front();  // the deck's floor
   d.slot = false;
@@ -414,7 +412,7 @@ TEST(DemCollapse, AGranularJetLandsWhereTheDemsDid) {
 
 // The DEM's erodible bed runs (dem/calibration/erodible.in), one row a run.
 fs::path erodible_summary_path() {
-  return dem_dir() / "calibration/results/erodible_summary.csv";
+  return repository_dem_dir() / "calibration/results/erodible_summary.csv";
 }
 
 // Which thickness the thin-layer law reads: the top 4, 8 or 12 grains of a

@@ -29,14 +29,13 @@
 #include "experiments/fed_heap.h"
 #include "io/soil_table.h"
 #include "report/dem_columns.h"
+#include "report/perf_report_parts.h"
 
 namespace skidsim::report::perf {
 namespace {
 
-namespace fs = std::filesystem;
-
 TEST(DemFedHeap, ThePourOntoAHeapAgainstTheDemsHeap) {
-  const std::vector<DemFedHeap> dem = read_dem_fed_heap(fs::path(io::default_assets_dir()).parent_path() / "dem");
+  const std::vector<DemFedHeap> dem = read_dem_fed_heap(repository_dem_dir());
   ASSERT_GE(dem.size(), 4u);
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   const DemFedHeap& slowest = dem.front();

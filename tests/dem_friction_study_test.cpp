@@ -18,20 +18,17 @@
 
 #include "io/soil_table.h"
 #include "report/dem_columns.h"
+#include "report/perf_report_parts.h"
 
 namespace skidsim::report::perf {
 namespace {
-
-namespace fs = std::filesystem;
-
-fs::path dem_dir() { return fs::path(io::default_assets_dir()).parent_path() / "dem"; }
 
 // dem_sand's flow law is its calibration's: the soil table and
 // calibration/material.csv hold the same angles (within the table's
 // rounding), so a second calibration read the same way is the same model.
 TEST(DemFrictionStudy, DemSandsFlowLawIsItsCalibrations) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
-  const terrain::SoilFlowParameters read = calibrated_flow(columns_material(dem_dir(), "results"), sand);
+  const terrain::SoilFlowParameters read = calibrated_flow(columns_material(repository_dem_dir(), "results"), sand);
   EXPECT_NEAR(read.repose_angle_deg, sand.repose_angle_deg, 0.02);
   EXPECT_NEAR(read.stop_angle_deg, sand.stop_angle_deg, 0.02);
   EXPECT_NEAR(read.flowing_friction_angle_deg, sand.flowing_friction_angle_deg, 0.02);
@@ -40,7 +37,7 @@ TEST(DemFrictionStudy, DemSandsFlowLawIsItsCalibrations) {
   EXPECT_NEAR(read.bed_start_angle_deg, sand.bed_start_angle_deg, 0.02);
   EXPECT_DOUBLE_EQ(read.grain_diameter_m, sand.grain_diameter_m);
   for (const FrictionStudyMaterial& m : kFrictionStudy)
-    EXPECT_EQ(columns_material(dem_dir(), m.results), dem_dir() / "collapse" / m.results / "material.csv");
+    EXPECT_EQ(columns_material(repository_dem_dir(), m.results), repository_dem_dir() / "collapse" / m.results / "material.csv");
 }
 
 // One material of the friction study against its DEM at 10 and 5 cm,
@@ -53,12 +50,12 @@ struct StudyRun {
 
 std::vector<StudyRun> study(const FrictionStudyMaterial& m) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
-  const terrain::SoilFlowParameters soil = calibrated_flow(columns_material(dem_dir(), m.results), sand);
+  const terrain::SoilFlowParameters soil = calibrated_flow(columns_material(repository_dem_dir(), m.results), sand);
   std::printf("[ measured ] rolling friction %g: repose %.2f, stop %.2f, flowing friction %.2f, thin layers %.2f over "
               "%.2f grains, the bed's start angle %.2f deg\n",
               m.rolling_friction, soil.repose_angle_deg, soil.stop_angle_deg, soil.flowing_friction_angle_deg,
               soil.thin_layer_friction_angle_deg, soil.thin_layer_decay_grains, soil.bed_start_angle_deg);
-  const std::vector<DemColumn> base = read_dem_columns(dem_dir()), dem = read_dem_columns(dem_dir(), m.results);
+  const std::vector<DemColumn> base = read_dem_columns(repository_dem_dir()), dem = read_dem_columns(repository_dem_dir(), m.results);
   std::vector<StudyRun> out;
   for (double cell : {0.1, 0.05}) {
     for (const DemColumn& d : dem) {

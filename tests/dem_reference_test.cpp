@@ -17,15 +17,15 @@
 
 #include <unistd.h>
 
-#include "io/soil_table.h"
 #include "report/dem_blades.h"
+#include "report/perf_report_parts.h"
 
 namespace skidsim::report::perf {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path dem_results() { return fs::path(io::default_assets_dir()).parent_path() / "dem" / "blade" / "results"; }
+fs::path dem_results() { return repository_dem_dir() / "blade" / "results"; }
 
 class DemBladeCellSizes : public ::testing::TestWithParam<double> {};
 

@@ -27,25 +27,21 @@
 namespace skidsim::report::perf {
 namespace {
 
-namespace fs = std::filesystem;
-
-fs::path dem_dir() { return fs::path(io::default_assets_dir()).parent_path() / "dem"; }
-
 
 // The soil table's dem_sand holds what the DEM's calibration tests measured
 // (one fact, two places: the table is what skidsim reads, the CSVs what the
 // DEM wrote), to the table's rounding.
 TEST(DemSand, TableHoldsTheCalibratedParameters) {
   const terrain::SoilMechanics soil = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").terramechanics;
-  const auto bekker = read_csv_quantities(dem_dir() / "wheel" / "results" / "bekker.csv");
+  const auto bekker = read_csv_quantities(repository_dem_dir() / "wheel" / "results" / "bekker.csv");
   EXPECT_NEAR(soil.n, bekker.at("n"), 0.001);
   EXPECT_NEAR(soil.k_c_kN_per_m_n1, bekker.at("k_c"), 0.001 * std::abs(bekker.at("k_c")));
   EXPECT_NEAR(soil.k_phi_kN_per_m_n2, bekker.at("k_phi"), 0.001 * bekker.at("k_phi"));
   EXPECT_NEAR(soil.unload_k0_kPa_per_m, bekker.at("unload_k0"), 0.001 * bekker.at("unload_k0"));
   EXPECT_NEAR(soil.unload_Au_kPa_per_m2, bekker.at("unload_Au"), 0.001 * bekker.at("unload_Au"));
-  const auto janosi = read_csv_quantities(dem_dir() / "calibration" / "results" / "janosi.csv");
+  const auto janosi = read_csv_quantities(repository_dem_dir() / "calibration" / "results" / "janosi.csv");
   EXPECT_NEAR(soil.shear_modulus_K_m, janosi.at("all"), 1e-5);
-  const auto material = read_csv_quantities(dem_dir() / "calibration" / "material.csv");
+  const auto material = read_csv_quantities(repository_dem_dir() / "calibration" / "material.csv");
   EXPECT_NEAR(soil.friction_angle_deg, material.at("friction_angle_c0_deg"), 0.05);
   EXPECT_NEAR(soil.tool_friction_angle_deg, material.at("tool_friction_angle_deg"), 0.05);
   const terrain::SoilFlowParameters flow = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
@@ -63,7 +59,7 @@ class DemWheelCellSizes : public ::testing::TestWithParam<double> {};
 
 TEST_P(DemWheelCellSizes, AgainstTheStoredDemRuns) {
   const io::SoilRecord soil = io::load_soil_table(io::default_soil_table_path()).at("dem_sand");
-  const std::vector<DemWheel> runs = read_dem_wheels(dem_dir() / "wheel" / "results");
+  const std::vector<DemWheel> runs = read_dem_wheels(repository_dem_dir() / "wheel" / "results");
   ASSERT_EQ(runs.size(), 6u);
   for (const DemWheel& dem : runs) {
     const WheelLike s = wheel_like(dem, soil.terramechanics, soil.flow, GetParam());
@@ -112,7 +108,7 @@ TEST_P(DemWheelCellSizes, AgainstTheStoredDemRuns) {
 // (z(s) / z(towed) 1.19, 1.33, 1.63, 1.90 at 0.1, 0.2, 0.4, 0.6; Lyasko's
 // factor 1.16, 1.33, 1.75, 2.29).
 TEST(DemWheel, SinksDeeperAndPullsHarderWithSlip) {
-  const std::vector<DemWheel> runs = read_dem_wheels(dem_dir() / "wheel" / "results");
+  const std::vector<DemWheel> runs = read_dem_wheels(repository_dem_dir() / "wheel" / "results");
   ASSERT_EQ(runs.size(), 6u);
   for (size_t k = 2; k < runs.size(); ++k) EXPECT_GT(runs[k].sinkage_m, runs[k - 1].sinkage_m) << "slip " << runs[k].slip;
   EXPECT_TRUE(runs[1].towed);

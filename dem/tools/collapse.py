@@ -38,9 +38,8 @@ import math
 import os
 import sys
 
-from dem_io import grain_mass, read_dump, read_quantities
+from dem_io import D50_M, DT_STEP_S, grain_mass, read_dump, read_quantities
 
-D50_M = 0.008          # dem/material.in: radii 3.6 / 4.0 / 4.4 mm
 G_M_S2 = 9.80665
 
 
@@ -123,13 +122,11 @@ def post_run(scratch, results, meta_path):
         series.append((step, front_r99(atoms, slot), front_edge(rows), centre_height(atoms, slot),
                        kinetic_energy(atoms)))
         last_rows = rows
-    # the deck dumps every dtout seconds from step 0 at dt = 7.5e-5 s (dem/material.in)
-    dt_step = 7.5e-5
     tag = "%s_a%s" % (geom, aspect)
     with open(os.path.join(results, "front_%s.csv" % tag), "w") as f:
         f.write("t_s,front_r99_m,front_edge_m,centre_height_m,kinetic_energy_J\n")
         for step, r99, edge, hc, ke in series:
-            f.write("%.4f,%.5f,%.5f,%.5f,%.6g\n" % (step * dt_step, r99, edge, hc, ke))
+            f.write("%.4f,%.5f,%.5f,%.5f,%.6g\n" % (step * DT_STEP_S, r99, edge, hc, ke))
     with open(os.path.join(results, "deposit_%s.csv" % tag), "w") as f:
         f.write("r_m,thickness_m,top_m\n")
         for r, thick, top in last_rows:
@@ -137,7 +134,7 @@ def post_run(scratch, results, meta_path):
     # the kinetic energy rises to its peak as the column falls, then dies out
     peak = max(s[4] for s in series)
     i_peak = max(range(len(series)), key=lambda i: series[i][4])
-    t_stop = next((series[i][0] * dt_step for i in range(i_peak, len(series)) if series[i][4] < 1e-3 * peak),
+    t_stop = next((series[i][0] * DT_STEP_S for i in range(i_peak, len(series)) if series[i][4] < 1e-3 * peak),
                   float("nan"))
     first, final = series[0], series[-1]
     # a dropped column's top at release stands drop above a standing one's

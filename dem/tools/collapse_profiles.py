@@ -33,10 +33,8 @@ import math
 import os
 import sys
 
-from dem_io import read_dump, read_quantities
+from dem_io import D50_M, DT_STEP_S, read_dump, read_quantities
 
-D50_M = 0.008        # dem/material.in: radii 3.6 / 4.0 / 4.4 mm
-DT_STEP_S = 7.5e-5   # dem/material.in; the deck dumps every dtout from step 0
 RING_R0 = 0.2        # ring width over r0
 MIN_GRAINS = 30
 MOVING_M_S = 0.05    # a ring whose top moves slower is at rest

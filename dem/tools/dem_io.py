@@ -4,6 +4,8 @@ only)."""
 import math
 
 RHO_GRAIN = 2650.0  # dem/material.in, particle density (kg/m^3)
+D50_M = 0.008       # dem/material.in: radii 3.6 / 4.0 / 4.4 mm
+DT_STEP_S = 7.5e-5  # dem/material.in: the timestep (the decks dump every so many steps from step 0)
 
 
 def grain_mass(r):

@@ -30,10 +30,8 @@ import os
 import re
 import sys
 
-from dem_io import grain_mass, line_fit, read_dump, read_material
+from dem_io import D50_M, DT_STEP_S, grain_mass, line_fit, read_dump, read_material
 
-D50_M = 0.008          # dem/material.in
-DT_S = 7.5e-5          # dem/material.in
 LY_M = 0.048           # fed_heap.in's defaults
 L_M = 0.32
 X_FROM_M = 0.08
@@ -78,7 +76,7 @@ def main():
         rows = []
         for path in sorted(glob.glob(os.path.join(scratch, "fed_heap_Q%s.*.dump" % q)), key=frame_of):
             atoms = read_dump(path)
-            rows.append((frame_of(path) * DT_S, surface_tan(atoms, rho_bulk), sum(grain_mass(a["radius"]) for a in atoms)))
+            rows.append((frame_of(path) * DT_STEP_S, surface_tan(atoms, rho_bulk), sum(grain_mass(a["radius"]) for a in atoms)))
         with open(os.path.join(results, "fed_heap_Q%s.csv" % q), "w") as f:
             f.write("t_s,tan_slope,mass_kg\n")
             f.writelines("%.4f,%.5f,%.5f\n" % r for r in rows)
