@@ -210,4 +210,39 @@ terrain::FedHeapCase dem_fed_heap_case(const DemFedHeap& dem, double cell_m, boo
 
 double slope_deg(double tan_beta) { return rad_to_deg(std::atan(tan_beta)); }
 
+std::vector<DemStoppingLayer> read_dem_stopping_layers(const fs::path& dem_dir) {
+  const fs::path material = dem_dir / "calibration" / "material.csv";
+  const std::map<std::string, double> m = read_csv_quantities(material);
+  const double grain_m = quantity_in(m, material, "particle_diameter_m");
+  const double floor_deg = quantity_in(m, material, "floor_flowing_friction_angle_deg");
+  const fs::path path = dem_dir / "calibration" / "results" / "stopping_summary.csv";
+  const CsvNumbers csv = read_csv_numbers(path);
+  std::vector<DemStoppingLayer> out;
+  for (const auto& row : csv.rows) {
+    DemStoppingLayer d;
+    d.base_type = static_cast<int>(row[csv.column("base_type", path)]);
+    d.layers = static_cast<int>(row[csv.column("layers", path)]);
+    d.theta_deg = row[csv.column("theta_deg", path)];
+    d.mean0_m_s = row[csv.column("mean0_m_s", path)];
+    d.friction_top = row[csv.column("friction_top", path)];
+    d.stop_time_ratio = row[csv.column("stop_time_ratio", path)];
+    d.travel_ratio = row[csv.column("travel_ratio", path)];
+    d.grain_m = grain_m;
+    d.floor_friction_deg = floor_deg;
+    out.push_back(d);
+  }
+  if (out.empty()) throw std::runtime_error(path.string() + ": no runs");
+  return out;
+}
+
+terrain::StoppingLayerCase dem_stopping_case(const DemStoppingLayer& dem, double cell_m) {
+  terrain::StoppingLayerCase c;
+  c.layer_m = dem.layers * dem.grain_m;
+  c.speed_m_s = dem.mean0_m_s;
+  c.cell_m = cell_m;
+  c.on_floor = dem.base_type == 3;
+  c.floor_friction_deg = dem.floor_friction_deg;
+  return c;
+}
+
 }  // namespace skidsim::report::perf

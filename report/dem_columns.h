@@ -14,6 +14,7 @@
 
 #include "experiments/column_collapse.h"
 #include "experiments/fed_heap.h"
+#include "experiments/stopping_layer.h"
 
 namespace skidsim::report::perf {
 
@@ -125,5 +126,22 @@ inline constexpr double kFedHeapLambda = 10.0;
 terrain::FedHeapCase dem_fed_heap_case(const DemFedHeap& dem, double cell_m, bool momentum);
 // A slope's tangent in degrees.
 double slope_deg(double tan_beta);
+
+// The DEM's layers coming to rest (dem/calibration/stopping.in,
+// results/stopping_summary.csv; dem/tools/stopping.py): per run the base (1:
+// the layer's own grains, frozen; 3: the columns' floor), its thickness in
+// grains, the slope, its first mean speed, the friction that slows its
+// flowing grains, and the deposition's dimensionless signature: t_stop a /
+// u0 and the mass centre's travel a / u0^2 (a the top's deceleration); with
+// the calibration's grain diameter and floor friction (material.csv).
+struct DemStoppingLayer {
+  int base_type = 1, layers = 0;
+  double theta_deg = 0.0, mean0_m_s = 0.0, friction_top = 0.0, stop_time_ratio = 0.0, travel_ratio = 0.0;
+  double grain_m = 0.0, floor_friction_deg = 0.0;
+};
+std::vector<DemStoppingLayer> read_dem_stopping_layers(const std::filesystem::path& dem_dir);
+// The DEM run's layer on the grid at `cell_m` (the DEM's own size: a uniform
+// layer has no length scale but its depth).
+terrain::StoppingLayerCase dem_stopping_case(const DemStoppingLayer& dem, double cell_m);
 
 }  // namespace skidsim::report::perf

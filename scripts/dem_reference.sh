@@ -5,10 +5,10 @@
 # the collapsing columns) and post-processes them into the committed CSVs. See dem/README.md.
 #
 #   scripts/dem_reference.sh [stage ...]     stages: meshes pile shear slide chute erodible fed_heap
-#                                            impact bed blade bucket wheel_bed plate wheel chute_post
-#                                            erodible_post fed_heap_post impact_post post wheel_post collapse
-#                                            collapse_post friction friction_post (default: all, in
-#                                            that order);
+#                                            stopping impact bed blade bucket wheel_bed plate wheel
+#                                            chute_post erodible_post fed_heap_post stopping_post
+#                                            impact_post post wheel_post collapse collapse_post friction
+#                                            friction_post (default: all, in that order);
 #                                            optional stage "wide": the deep vertical cut in a
 #                                            0.5 m wide bin (its own bed, about 25 min more),
 #                                            then "post"
@@ -191,6 +191,29 @@ stage_fed_heap() {
 stage_fed_heap_post() {
   wait_ok
   "$PY" "$DEM/tools/fed_heap.py" "$SCRATCH/fed_heap" "$DEM/calibration/results"
+  write_meta
+}
+
+# A flowing layer coming to rest (dem/calibration/stopping.in): set flowing down 38 deg for 0.6 s,
+# then on level ground (or 15 deg), its grains dumped through its depth every 5 ms as it stops
+# (dem/tools/stopping.py): where it lays its base down and how far its mass travels, on its own
+# grains (8, 16 and 32 grains thick) and on the columns' floor (8 and 16). Each run:
+# "BASE LAYERS THETA_DEG".
+STOPPING_RUNS=("1 8 0" "1 16 0" "1 32 0" "1 16 15" "3 8 0" "3 16 0")
+stage_stopping() {
+  local run base layers theta c="$DEM/calibration"
+  mkdir -p "$SCRATCH/stopping"
+  for run in "${STOPPING_RUNS[@]}"; do
+    read -r base layers theta <<< "$run"
+    throttle
+    run_deck "stopping_base${base}_n${layers}_theta$theta" "$c" stopping.in -var base "$base" -var layers "$layers" \
+      -var theta "$theta" -var out "$(rel "$SCRATCH/stopping" "$c")" &
+  done
+}
+
+stage_stopping_post() {
+  wait_ok
+  "$PY" "$DEM/tools/stopping.py" "$SCRATCH/stopping" "$DEM/calibration/results"
   write_meta
 }
 
@@ -461,8 +484,9 @@ write_meta() {
 }
 
 stages=("$@")
-((${#stages[@]})) || stages=(meshes pile shear slide chute erodible fed_heap impact bed blade bucket wheel_bed plate wheel
-  chute_post erodible_post fed_heap_post impact_post post wheel_post collapse collapse_post friction friction_post)
+((${#stages[@]})) || stages=(meshes pile shear slide chute erodible fed_heap stopping impact bed blade bucket wheel_bed plate
+  wheel chute_post erodible_post fed_heap_post stopping_post impact_post post wheel_post collapse collapse_post friction
+  friction_post)
 for s in "${stages[@]}"; do
   "stage_$s"
 done

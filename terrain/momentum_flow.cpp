@@ -36,6 +36,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
       raining_(params.raining),
       erosion_(params.erosion),
       owns_cells_(params.owns_cells),
+      deposition_(params.deposition),
       layer_depth_(params.layer_depth) {
   const SoilFlowParameters& soil = grid.soil();
   const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.flowing_friction_deg();
@@ -154,7 +155,7 @@ void MomentumFlow::reserve_cells(std::size_t cells) {
   cells = std::min(cells, flowing_.size());
   candidates_.reserve(cells), moving_.reserve(cells), rise_.reserve(cells), layer_.reserve(cells), keep_.reserve(cells);
   bed_floor_m_.reserve(cells);
-  if (owns_cells_) slowed_from_.reserve(cells), held_.reserve(cells);
+  if (owns_cells_) slowed_from_.reserve(cells), slowed_to_.reserve(cells), held_.reserve(cells);
   x_faces_.reserve(2 * cells), y_faces_.reserve(2 * cells), new_x_.reserve(2 * cells), new_y_.reserve(2 * cells);
   new_flowing_.reserve(8 * cells);
 }
@@ -277,21 +278,49 @@ void MomentumFlow::hold_flowing_cells(GranularGrid& grid) {
 }
 
 void MomentumFlow::lay_down_slowed() {
-  // A layer sheared at a rate that does not change as it slows moves at a
-  // mean speed in proportion to its thickness (a linear profile over the
-  // flowing depth h_f: u = gamma_dot h_f / 2); slowed from u0 to u (its
-  // centre's speed: friction, a slope against it, slower arrivals), its
-  // lowest grains come to rest first, under the grains still
-  // running (the DEM's collapses: dem/collapse/results*/profile_*.csv), and
-  // it keeps u / u0 of its thickness. What it lays down is bed, the cell's
-  // static soil, and takes its share of the momentum (the faces' speeds
-  // stay).
+  // A layer of linear profile over its flowing depth h_f (mean speed
+  // gamma_dot h_f / 2) whose lowest grains come to rest first, under the
+  // grains still running (the DEM's collapses and stopping layers:
+  // dem/collapse/results*/profile_*.csv, dem/calibration/results/stopping_*.csv),
+  // slowed from u0 to u (its centre's speed). What it lays down is bed, the
+  // cell's static soil (no material moves, so the books stay exact).
+  if (deposition_ == MomentumFlowParameters::Deposition::kMeanSpeed) {
+    // It keeps u / u0 of its thickness and the faces their speeds: the
+    // grains laid down take the mean speed's share of the momentum.
+    for (std::size_t n = 0; n < candidates_.size(); ++n) {
+      const int c = candidates_[n];
+      if (flowing_[c] <= 0 || rain_[c] > 0) continue;
+      const double before = slowed_from_[n], after = speed_m_s(c);
+      if (!(before > 0.0) || after >= before) continue;
+      flowing_[c] -= static_cast<std::int64_t>(static_cast<double>(flowing_[c]) * (before - after) / before);
+    }
+    return;
+  }
+  // The interface (Lusso et al. 2017): the forces slow every depth alike by
+  // a dt, so the speed reaches zero a dt / gamma_dot higher and the grains
+  // there stop with next to no speed: the layer keeps its momentum, its
+  // thickness h_f' and mean speed u' with h_f' / h_f = u' / u0 (the profile
+  // kept) and h_f' u' = h_f u, hence h_f' = h_f sqrt(u / u0) and
+  // u' = sqrt(u0 u). Every speed is read before any face is scaled (each
+  // face by its donor's factor h_f / h_f'), so the cells' order does not
+  // matter.
+  slowed_to_.assign(candidates_.size(), 1.0);
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     if (flowing_[c] <= 0 || rain_[c] > 0) continue;
     const double before = slowed_from_[n], after = speed_m_s(c);
     if (!(before > 0.0) || after >= before) continue;
-    flowing_[c] -= static_cast<std::int64_t>(static_cast<double>(flowing_[c]) * (before - after) / before);
+    const double h = static_cast<double>(flowing_[c]);
+    const std::int64_t kept = static_cast<std::int64_t>(h * std::sqrt(after / before));
+    if (kept == flowing_[c]) continue;
+    if (kept > 0) slowed_to_[n] = h / static_cast<double>(kept);
+    flowing_[c] = kept;  // (none kept: the layer has lain down, and settle stops its faces)
+  }
+  for (std::size_t n = 0; n < candidates_.size(); ++n) {
+    if (slowed_to_[n] == 1.0) continue;
+    const std::array<int, 4> faces = faces_of(candidates_[n]);
+    for (int k = 0; k < 4; ++k)
+      if (leaves(k, face_u(k, faces[k]))) face_u(k, faces[k]) *= slowed_to_[n];
   }
 }
 
@@ -318,9 +347,14 @@ void MomentumFlow::substep(GranularGrid& grid, double dt_s) {
     for (std::size_t n = 0; n < candidates_.size(); ++n) slowed_from_[n] = speed_m_s(candidates_[n]);
   }
   accelerate(grid, dt_s);
+  // The interface follows the forces' slowing, not the mixing with what
+  // arrives (which brings momentum, not friction); the mean speed's rule,
+  // as first written, reads both.
+  const bool interface = owns_cells_ && deposition_ == MomentumFlowParameters::Deposition::kInterface;
+  if (interface) lay_down_slowed();
   transport(grid, dt_s);
   carry_momentum(grid);
-  if (owns_cells_) lay_down_slowed();
+  if (owns_cells_ && !interface) lay_down_slowed();
   settle(grid);
   // The flow at rest: its event is over, and what it laid down is bed at
   // rest like the rest.

@@ -143,12 +143,30 @@ struct MomentumFlowParameters {
   // The flow owns its cells (docs/fast_flows.md, "A flow that owns its
   // cells"): the automaton moves nothing out of a cell that holds a flowing
   // layer (GranularGrid::set_held), and a layer that slows lays its base
-  // down as bed, keeping the share of its thickness its speed keeps (its
-  // base comes to rest first, as the DEM's collapses show). false (the
-  // default): the automaton acts on the flow's cells too, where it stands in
-  // for that deposition. The cells stay held until the flow's step that
-  // finds them at rest; a flow dropped while it moves leaves them held.
+  // down as bed (its base comes to rest first, as the DEM's collapses and
+  // stopping layers show), by `deposition`. false (the default): the
+  // automaton acts on the flow's cells too, where it stands in for that
+  // deposition. The cells stay held until the flow's step that finds them
+  // at rest; a flow dropped while it moves leaves them held.
   bool owns_cells = false;
+  // How a slowing layer lays its base down (owns_cells; docs/fast_flows.md,
+  // "A layer coming to rest"). A layer of linear profile u = gamma_dot z
+  // over its flowing depth h_f (mean speed gamma_dot h_f / 2) whose every
+  // depth the forces slow alike:
+  //   kInterface (the default): the static/flowing interface rises where
+  //     the speed reaches zero (Lusso, Bouchut, Ern and Mangeney 2017), at
+  //     dh_f/dt = -a / gamma_dot; the grains laid down had next to no speed,
+  //     so the layer keeps its momentum: slowed by the forces from u0 to u
+  //     in a sub-step (its mass fixed), it keeps sqrt(u / u0) of its
+  //     thickness and moves at sqrt(u0 u). Its mass centre travels
+  //     (2/3) u0^2 / a to rest, as the DEM's layers stopping on their own
+  //     grains do (dem/calibration/stopping.in).
+  //   kMeanSpeed: it keeps u / u0 of its thickness and moves at u, the
+  //     laid-down grains taking the mean speed's momentum with them: twice
+  //     the interface's rate, its mass centre at rest after u0^2 / (3 a),
+  //     half the DEM's travel; kept for the comparison (docs/fast_flows.md).
+  enum class Deposition { kInterface, kMeanSpeed };
+  Deposition deposition = Deposition::kInterface;
   int max_substeps = 64;
 };
 
@@ -289,8 +307,9 @@ class MomentumFlow {
   void carry_momentum(const GranularGrid& grid);
   void settle(const GranularGrid& grid);
   // owns_cells: the layers that slowed in this sub-step lay down their base
-  // (slowed_from_ holds the candidates' speeds before it); the cells with a
-  // flowing layer held from the automaton until the next step.
+  // (slowed_from_ holds the candidates' speeds before it; `deposition`);
+  // the cells with a flowing layer held from the automaton until the next
+  // step.
   void lay_down_slowed();
   void hold_flowing_cells(GranularGrid& grid);
   void mark(int cell);
@@ -306,7 +325,9 @@ class MomentumFlow {
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0, pressed_steps_ = 0;
   bool raining_ = true, erosion_ = true, owns_cells_ = false;
+  MomentumFlowParameters::Deposition deposition_ = MomentumFlowParameters::Deposition::kInterface;
   std::vector<double> slowed_from_;  // owns_cells: the candidates' speeds before a sub-step (m/s)
+  std::vector<double> slowed_to_;    // kInterface: each candidate's face factor h_f / h_f' (1: none laid down)
   std::vector<int> held_;            // owns_cells: the cells held from the automaton
   MomentumFlowParameters::LayerDepth layer_depth_ = MomentumFlowParameters::LayerDepth::kMobile;
   // The landings' impact (land): the sheet speed ratio c; per cell the

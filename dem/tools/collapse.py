@@ -36,9 +36,8 @@ grain above H0) drops out: the run-out starts at 0 and the height at a.
 import glob
 import math
 import os
-import sys
 
-from dem_io import D50_M, DT_STEP_S, grain_mass, read_dump, read_quantities
+from dem_io import D50_M, DT_STEP_S, grain_mass, read_dump, read_quantities, tool_args
 
 G_M_S2 = 9.80665
 
@@ -152,13 +151,7 @@ def post_run(scratch, results, meta_path):
 
 
 def main():
-    if len(sys.argv) != 3:
-        raise SystemExit("usage: collapse.py SCRATCH_DIR RESULTS_DIR")
-    scratch, results = sys.argv[1], sys.argv[2]
-    os.makedirs(results, exist_ok=True)
-    metas = sorted(glob.glob(os.path.join(scratch, "column_*_a*.csv")))
-    if not metas:
-        raise SystemExit("collapse.py: no column_*.csv in %s" % scratch)
+    scratch, results, metas = tool_args("collapse.py", "column_*_a*.csv")
     rows = [post_run(scratch, results, m) for m in metas]
     keys = list(rows[0].keys())
     with open(os.path.join(results, "summary.csv"), "w") as f:

@@ -1,7 +1,10 @@
 """Shared by the post-processing scripts: reading LIGGGHTS text dumps and
-quantity CSVs, a grain's mass and a least-squares line (Python 3, stdlib
-only)."""
+quantity CSVs, a grain's mass, a least-squares line and a tool's command
+line (Python 3, stdlib only)."""
+import glob
 import math
+import os
+import sys
 
 RHO_GRAIN = 2650.0  # dem/material.in, particle density (kg/m^3)
 D50_M = 0.008       # dem/material.in: radii 3.6 / 4.0 / 4.4 mm
@@ -56,3 +59,17 @@ def line_fit(points):
     sxx = sum((p[0] - mx) ** 2 for p in points)
     sxy = sum((p[0] - mx) * (p[1] - my) for p in points)
     return sxy / sxx, my - sxy / sxx * mx
+
+
+def tool_args(tool, pattern):
+    """SCRATCH_DIR and RESULTS_DIR from a post-processing tool's command line
+    (RESULTS_DIR made), and the runs' metadata files in SCRATCH_DIR matching
+    `pattern`, sorted; exits naming the tool where either is missing."""
+    if len(sys.argv) != 3:
+        raise SystemExit("usage: %s SCRATCH_DIR RESULTS_DIR" % tool)
+    scratch, results = sys.argv[1], sys.argv[2]
+    os.makedirs(results, exist_ok=True)
+    metas = sorted(glob.glob(os.path.join(scratch, pattern)))
+    if not metas:
+        raise SystemExit("%s: no %s in %s" % (tool, pattern, scratch))
+    return scratch, results, metas

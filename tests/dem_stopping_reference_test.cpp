@@ -1,0 +1,80 @@
+// A flowing layer coming to rest on level ground against the stored LIGGGHTS
+// layers (dem/calibration/stopping.in, results/stopping_summary.csv;
+// scripts/dem_reference.sh, stages stopping and stopping_post): how far the
+// layer's mass centre travels and when it stops, over u0^2 / a and u0 / a (a
+// the deceleration its friction gives it), the deposition's dimensionless
+// signature, independent of the collapses the owning flow is then checked
+// on (docs/fast_flows.md, "A layer coming to rest").
+//
+// What the DEM shows: on its own grains a layer comes to rest from the base
+// up, every depth slowing alike and the static/flowing interface rising
+// where the speed reaches zero (the top stops at about u_top0 / a): its mass
+// centre travels 0.70-0.82 u0^2 / a (8 and 16 grains), above a plug's 1/2.
+// On the columns' floor, smoother than its grains, it slides to rest as a
+// plug (0.52-0.54). The owning flow's interface deposition
+// (MomentumFlowParameters::Deposition::kInterface) gives a layer of linear
+// profile 2/3 (0.66 measured) and a stop at 1.8-1.9 u0 / a, within a fifth
+// of the DEM's on the grains; the mean speed's rule (kMeanSpeed) 1/3 and
+// about 1, half the DEM's. Cell size does not enter a uniform layer (10 and
+// 5 cm alike).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "experiments/stopping_layer.h"
+#include "io/soil_table.h"
+#include "report/dem_columns.h"
+#include "report/perf_report_parts.h"
+
+namespace skidsim::report::perf {
+namespace {
+
+using Deposition = terrain::MomentumFlowParameters::Deposition;
+
+TEST(DemStoppingLayer, TheLayerLaysItsBaseDownAsTheDemsDoes) {
+  const std::vector<DemStoppingLayer> dem = read_dem_stopping_layers(repository_dem_dir());
+  const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  int compared = 0;
+  for (const DemStoppingLayer& d : dem) {
+    char where[96];
+    std::snprintf(where, sizeof where, "base %d, %d grains, %g deg", d.base_type, d.layers, d.theta_deg);
+    // The 32-grain layer springs back after it stops (the soft grains'
+    // elastic shear: its top at -12 % of its first speed), so its stop is no
+    // friction's alone (docs/fast_flows.md, "A layer coming to rest").
+    if (d.layers > 16) continue;
+    // The reference itself: on its own grains the layer lays its base down
+    // (its mass centre travels past a plug's u0^2 / 2a, its top stops past
+    // u0 / a), on the floor it slides as a plug.
+    if (d.base_type == 1) {
+      EXPECT_GT(d.travel_ratio, 0.6) << where;
+      EXPECT_GT(d.stop_time_ratio, 1.5) << where;
+    } else {
+      EXPECT_NEAR(d.travel_ratio, 0.5, 0.06) << where;
+    }
+    // The model's layer runs on level ground.
+    if (d.theta_deg != 0.0) continue;
+    for (double cell : {0.1, 0.05}) {
+      terrain::StoppingLayerCase c = dem_stopping_case(d, cell);
+      const terrain::StoppingLayerRun interface = terrain::run_stopping_layer(c, sand);
+      c.deposition = Deposition::kMeanSpeed;
+      const terrain::StoppingLayerRun mean_speed = terrain::run_stopping_layer(c, sand);
+      std::printf("[ measured ] %s at %g m: travel %.2f u0^2/a (DEM %.2f; mean speed's rule %.2f), stop %.2f u0/a (DEM %.2f; "
+                  "mean speed's rule %.2f)\n",
+                  where, cell, interface.travel_ratio, d.travel_ratio, mean_speed.travel_ratio,
+                  interface.stop_time_ratio, d.stop_time_ratio, mean_speed.stop_time_ratio);
+      for (const auto* run : {&interface, &mean_speed}) EXPECT_TRUE(run->stopped && run->books_exact) << where;
+      if (d.base_type != 1) continue;  // on the floor: the model lays down where the DEM slides (docs)
+      ++compared;
+      // Measured -20 / -5 % (travel) and -13 / +6 % (stop) at 8 / 16 grains.
+      EXPECT_LT(std::abs(interface.travel_ratio / d.travel_ratio - 1.0), 0.25) << where << ", " << cell;
+      EXPECT_LT(std::abs(interface.stop_time_ratio / d.stop_time_ratio - 1.0), 0.2) << where << ", " << cell;
+      // The mean speed's rule stops the mass in half the DEM's travel.
+      EXPECT_LT(mean_speed.travel_ratio, 0.6 * d.travel_ratio) << where << ", " << cell;
+    }
+  }
+  EXPECT_GE(compared, 4);
+}
+
+}  // namespace
+}  // namespace skidsim::report::perf
