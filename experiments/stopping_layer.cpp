@@ -33,16 +33,9 @@ StoppingLayerRun run_stopping_layer(const StoppingLayerCase& c, const SoilFlowPa
   for (int i = from; i < to; ++i) flow.land(g, g.index(i, 0), layer, c.speed_m_s, 0.0);
 
   StoppingLayerRun run;
-  // The friction of a layer h deep (the thin-layer law, Pouliquen 1999, as
-  // terrain/flow_law.h gives it; the floor's on the floor), apart from the flow.
-  double mu = std::tan(deg_to_rad(c.floor_friction_deg));
-  if (!c.on_floor) {
-    const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_deg()));
-    const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
-    const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
-    mu = decay_m > 0.0 && tan2 > tan1 ? tan1 + (tan2 - tan1) * std::exp(-c.layer_m / decay_m) : tan1;
-  }
-  run.deceleration_m_s2 = kGravity_m_s2 * mu;
+  // The deceleration the flow's own friction gives a layer h deep (the
+  // soil's thin-layer law, Pouliquen 1999; the floor's on the floor).
+  run.deceleration_m_s2 = kGravity_m_s2 * (c.on_floor ? flow.floor_friction_tan() : flow.bed_friction_tan(c.layer_m));
   // The middle third of the layer: its flowing layer's momentum over its
   // whole mass, and its flowing layer's mean speed.
   const int mid_from = spec.nx / 2 - spec.nx / 8, mid_to = spec.nx / 2 + spec.nx / 8;

@@ -34,9 +34,9 @@ struct StoppingLayerRun {
   // of its first (t_stop_s), as dem/tools/stopping.py measures the DEM's.
   double travel_m = 0.0;
   double t_stop_s = 0.0;
-  // The deceleration its friction gives the layer (m/s^2), from the soil's
-  // laws evaluated apart from the flow: g tan(theta_stop(h)) on the bed,
-  // g tan(delta_floor) on the floor.
+  // The deceleration the flow's friction gives the layer (m/s^2):
+  // g tan(theta_stop(h)) on the bed (MomentumFlow::bed_friction_tan), g
+  // tan(delta_floor) on the floor.
   double deceleration_m_s2 = 0.0;
   double travel_ratio = 0.0;     // travel a / u0^2
   double stop_time_ratio = 0.0;  // t_stop a / u0

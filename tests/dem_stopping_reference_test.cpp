@@ -9,14 +9,16 @@
 // What the DEM shows: on its own grains a layer comes to rest from the base
 // up, every depth slowing alike and the static/flowing interface rising
 // where the speed reaches zero (the top stops at about u_top0 / a): its mass
-// centre travels 0.70-0.82 u0^2 / a (8 and 16 grains), above a plug's 1/2.
-// On the columns' floor, smoother than its grains, it slides to rest as a
-// plug (0.52-0.54). The owning flow's interface deposition
+// centre travels 0.70-0.82 u0^2 / a (8 and 16 grains; 0.55 at 32, whose
+// profile starts blunter), above a plug's 1/2. On the columns' floor,
+// smoother than its grains, it slides to rest nearly as a plug
+// (0.52-0.54). The owning flow's interface deposition
 // (MomentumFlowParameters::Deposition::kInterface) gives a layer of linear
 // profile 2/3 (0.66 measured) and a stop at 1.8-1.9 u0 / a, within a fifth
 // of the DEM's on the grains; the mean speed's rule (kMeanSpeed) 1/3 and
-// about 1, half the DEM's. Cell size does not enter a uniform layer (10 and
-// 5 cm alike).
+// about 1, half the DEM's. The travel tells the depositions apart; the stop
+// mostly reads the starting profile. Cell size does not enter a uniform
+// layer (10 and 5 cm alike).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -39,16 +41,19 @@ TEST(DemStoppingLayer, TheLayerLaysItsBaseDownAsTheDemsDoes) {
   for (const DemStoppingLayer& d : dem) {
     char where[96];
     std::snprintf(where, sizeof where, "base %d, %d grains, %g deg", d.base_type, d.layers, d.theta_deg);
-    // The 32-grain layer springs back after it stops (the soft grains'
-    // elastic shear: its top at -12 % of its first speed), so its stop is no
-    // friction's alone (docs/fast_flows.md, "A layer coming to rest").
-    if (d.layers > 16) continue;
     // The reference itself: on its own grains the layer lays its base down
-    // (its mass centre travels past a plug's u0^2 / 2a, its top stops past
-    // u0 / a), on the floor it slides as a plug.
+    // (its mass centre travels past a plug's u0^2 / 2a, and at 8 and 16
+    // grains its top stops past 1.5 u0 / a), on the floor it slides nearly
+    // as a plug. The 32-grain layer starts blunter (its top 1.34 times its
+    // mean, a linear profile's 2), so its top stops sooner: its travel is
+    // compared, its stop is not (docs/fast_flows.md, "A layer coming to
+    // rest").
+    const bool blunt = d.layers > 16;
     if (d.base_type == 1) {
-      EXPECT_GT(d.travel_ratio, 0.6) << where;
-      EXPECT_GT(d.stop_time_ratio, 1.5) << where;
+      EXPECT_GT(d.travel_ratio, 0.52) << where;
+      if (!blunt) {
+        EXPECT_GT(d.stop_time_ratio, 1.5) << where;
+      }
     } else {
       EXPECT_NEAR(d.travel_ratio, 0.5, 0.06) << where;
     }
@@ -66,14 +71,19 @@ TEST(DemStoppingLayer, TheLayerLaysItsBaseDownAsTheDemsDoes) {
       for (const auto* run : {&interface, &mean_speed}) EXPECT_TRUE(run->stopped && run->books_exact) << where;
       if (d.base_type != 1) continue;  // on the floor: the model lays down where the DEM slides (docs)
       ++compared;
-      // Measured -20 / -5 % (travel) and -13 / +6 % (stop) at 8 / 16 grains.
-      EXPECT_LT(std::abs(interface.travel_ratio / d.travel_ratio - 1.0), 0.25) << where << ", " << cell;
-      EXPECT_LT(std::abs(interface.stop_time_ratio / d.stop_time_ratio - 1.0), 0.2) << where << ", " << cell;
-      // The mean speed's rule stops the mass in half the DEM's travel.
-      EXPECT_LT(mean_speed.travel_ratio, 0.6 * d.travel_ratio) << where << ", " << cell;
+      // Measured -20 / -5 / +21 % (travel) at 8 / 16 / 32 grains and -13 /
+      // +6 % (stop) at 8 / 16.
+      const double error = std::abs(interface.travel_ratio / d.travel_ratio - 1.0);
+      EXPECT_LT(error, 0.25) << where << ", " << cell;
+      if (!blunt) {
+        EXPECT_LT(std::abs(interface.stop_time_ratio / d.stop_time_ratio - 1.0), 0.2) << where << ", " << cell;
+      }
+      // The mean speed's rule stops the mass in 0.41-0.61 of the DEM's travel.
+      EXPECT_LT(mean_speed.travel_ratio, 0.65 * d.travel_ratio) << where << ", " << cell;
+      EXPECT_LT(error, std::abs(mean_speed.travel_ratio / d.travel_ratio - 1.0)) << where << ", " << cell;
     }
   }
-  EXPECT_GE(compared, 4);
+  EXPECT_GE(compared, 6);
 }
 
 }  // namespace
