@@ -284,38 +284,32 @@ void MomentumFlow::lay_down_slowed() {
   // dem/collapse/results*/profile_*.csv, dem/calibration/results/stopping_*.csv),
   // slowed from u0 to u (its centre's speed). What it lays down is bed, the
   // cell's static soil (no material moves, so the books stay exact).
-  if (deposition_ == MomentumFlowParameters::Deposition::kMeanSpeed) {
-    // It keeps u / u0 of its thickness and the faces their speeds: the
-    // grains laid down take the mean speed's share of the momentum.
-    for (std::size_t n = 0; n < candidates_.size(); ++n) {
-      const int c = candidates_[n];
-      if (flowing_[c] <= 0 || rain_[c] > 0) continue;
-      const double before = slowed_from_[n], after = speed_m_s(c);
-      if (!(before > 0.0) || after >= before) continue;
-      flowing_[c] -= static_cast<std::int64_t>(static_cast<double>(flowing_[c]) * (before - after) / before);
-    }
-    return;
-  }
-  // The interface (Lusso et al. 2017): the forces slow every depth alike by
-  // a dt, so the speed reaches zero a dt / gamma_dot higher and the grains
-  // there stop with next to no speed: the layer keeps its momentum, its
-  // thickness h_f' and mean speed u' with h_f' / h_f = u' / u0 (the profile
-  // kept) and h_f' u' = h_f u, hence h_f' = h_f sqrt(u / u0) and
+  //   The interface (Lusso et al. 2017): the forces slow every depth alike
+  // by a dt, so the speed reaches zero a dt / gamma_dot higher and the
+  // grains there stop with next to no speed: the layer keeps its momentum,
+  // its thickness h_f' and mean speed u' with h_f' / h_f = u' / u0 (the
+  // profile kept) and h_f' u' = h_f u, hence h_f' = h_f sqrt(u / u0) and
   // u' = sqrt(u0 u). Every speed is read before any face is scaled (each
   // face by its donor's factor h_f / h_f'), so the cells' order does not
   // matter.
-  slowed_to_.assign(candidates_.size(), 1.0);
+  //   The mean speed's rule: it keeps u / u0 of its thickness and the faces
+  // their speeds, the grains laid down taking the mean speed's share of the
+  // momentum.
+  const bool interface = deposition_ == MomentumFlowParameters::Deposition::kInterface;
+  if (interface) slowed_to_.assign(candidates_.size(), 1.0);
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     if (flowing_[c] <= 0 || rain_[c] > 0) continue;
     const double before = slowed_from_[n], after = speed_m_s(c);
     if (!(before > 0.0) || after >= before) continue;
     const double h = static_cast<double>(flowing_[c]);
-    const std::int64_t kept = static_cast<std::int64_t>(h * std::sqrt(after / before));
+    const std::int64_t kept = interface ? static_cast<std::int64_t>(h * std::sqrt(after / before))
+                                        : flowing_[c] - static_cast<std::int64_t>(h * (before - after) / before);
     if (kept == flowing_[c]) continue;
-    if (kept > 0) slowed_to_[n] = h / static_cast<double>(kept);
+    if (interface && kept > 0) slowed_to_[n] = h / static_cast<double>(kept);
     flowing_[c] = kept;  // (none kept: the layer has lain down, and settle stops its faces)
   }
+  if (!interface) return;
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     if (slowed_to_[n] == 1.0) continue;
     const std::array<int, 4> faces = faces_of(candidates_[n]);

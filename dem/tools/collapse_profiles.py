@@ -33,7 +33,7 @@ import math
 import os
 import sys
 
-from dem_io import D50_M, DT_STEP_S, read_dump, read_quantities
+from dem_io import D50_M, DT_STEP_S, depth_98, read_dump, read_quantities
 
 RING_R0 = 0.2        # ring width over r0
 MIN_GRAINS = 30
@@ -58,8 +58,7 @@ def rings(atoms, r0):
 def ring_row(grains):
     """(depth over d50, base, top, layers at rest) of one ring, or None where
     its top does not move."""
-    heights = sorted(z for z, _ in grains)
-    depth = heights[min(len(heights) - 1, int(0.98 * len(heights)))]
+    depth = depth_98(z for z, _ in grains)
     top = mean([u for z, u in grains if z > 0.6 * depth])
     base = mean([u for z, u in grains if z < D50_M])
     if not top >= MOVING_M_S or math.isnan(base):

@@ -1,6 +1,6 @@
 """Shared by the post-processing scripts: reading LIGGGHTS text dumps and
-quantity CSVs, a grain's mass, a least-squares line and a tool's command
-line (Python 3, stdlib only)."""
+quantity CSVs, a grain's mass, a layer's depth, a least-squares line and a
+tool's command line (Python 3, stdlib only)."""
 import glob
 import math
 import os
@@ -17,22 +17,35 @@ def grain_mass(r):
 
 
 
+def read_dump_frames(path):
+    """The snapshots of a LIGGGHTS text dump, as (timestep, atoms) with the
+    atoms as dicts keyed by the dump's column names."""
+    frames, cols, section = [], None, None
+    with open(path) as f:
+        for line in f:
+            if line.startswith("ITEM:"):
+                section = line.split()[1]
+                if section == "ATOMS":
+                    cols = line.split()[2:]
+                continue
+            if section == "TIMESTEP":
+                frames.append((int(line), []))
+                section = None
+            elif section == "ATOMS":
+                frames[-1][1].append({c: float(x) for c, x in zip(cols, line.split())})
+    return frames
+
+
 def read_dump(path):
     """The atoms of a LIGGGHTS text dump (every snapshot in it), as dicts
     keyed by the dump's column names."""
-    rows, cols, in_atoms = [], None, False
-    with open(path) as f:
-        for line in f:
-            if line.startswith("ITEM: ATOMS"):
-                cols = line.split()[2:]
-                in_atoms = True
-                continue
-            if line.startswith("ITEM:"):
-                in_atoms = False
-                continue
-            if in_atoms:
-                rows.append({c: float(x) for c, x in zip(cols, line.split())})
-    return rows
+    return [a for _, atoms in read_dump_frames(path) for a in atoms]
+
+
+def depth_98(heights):
+    """A layer's depth: the 98th percentile of its grains' centres."""
+    z = sorted(heights)
+    return z[min(len(z) - 1, int(0.98 * len(z)))]
 
 
 def read_quantities(path):

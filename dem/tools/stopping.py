@@ -43,7 +43,7 @@ friction takes and lays its base down with its mean speed, 1 and 1/3.
 import math
 import os
 
-from dem_io import D50_M, DT_STEP_S, line_fit, read_quantities, tool_args
+from dem_io import D50_M, DT_STEP_S, depth_98, line_fit, read_dump_frames, read_quantities, tool_args
 
 G = 9.80665
 REST_SHARE = 0.05     # a layer slower than this share of the top's first speed is at rest
@@ -51,34 +51,15 @@ TOP_FIT = (0.2, 0.9)  # the top's deceleration is fitted between these shares of
 MEAN_FIT_S = 0.04     # the mean's first deceleration over this span
 
 
-def frames(path):
-    """(timestep, [(radius, z, vx)]) of every snapshot of a dump written with
-    `custom ... id radius z vx`."""
-    out, cur, section = [], None, None
-    with open(path) as f:
-        for line in f:
-            if line.startswith("ITEM:"):
-                section = line.split()[1]
-                continue
-            if section == "TIMESTEP":
-                cur = (int(line), [])
-                out.append(cur)
-                section = None
-            elif section == "ATOMS":
-                p = line.split()
-                cur[1].append((float(p[1]), float(p[2]), float(p[3])))
-    return out
-
-
 def mass_mean(grains):
+    """The mass-weighted mean velocity of (radius, z, vx) grains."""
     m = sum(r ** 3 for r, _, _ in grains)
     return sum(r ** 3 * u for r, _, u in grains) / m if m > 0.0 else float("nan")
 
 
 def frame_row(grains, rest_speed):
     """(mean, top, flowing mean, layers at rest, depth over d50) of a frame."""
-    heights = sorted(z for _, z, _ in grains)
-    depth = heights[min(len(heights) - 1, int(0.98 * len(heights)))]
+    depth = depth_98(z for _, z, _ in grains)
     top = mass_mean([g for g in grains if g[1] > depth - D50_M])
     rest = 0
     for k in range(int(depth / D50_M) + 1):
@@ -97,7 +78,8 @@ def post_run(scratch, results, meta_path):
     tag = os.path.basename(meta_path)[len("stopping_"):-len(".csv")]
     meta = read_quantities(meta_path)
     theta = math.radians(float(meta["theta_deg"]))
-    snaps = frames(os.path.join(scratch, "stopping_%s.dump" % tag))
+    snaps = [(step, [(a["radius"], a["z"], a["vx"]) for a in atoms])
+             for step, atoms in read_dump_frames(os.path.join(scratch, "stopping_%s.dump" % tag))]
     if len(snaps) < 10:
         raise SystemExit("stopping.py: %s has %d frames" % (tag, len(snaps)))
     top0 = frame_row(snaps[0][1], 0.0)[1]
