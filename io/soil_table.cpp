@@ -64,6 +64,8 @@ SoilTable load_soil_table(const std::string& path) {
     rec.flow.grain_diameter_m = f.number_in_or("grain_diameter_m", 0.0, 1.0, 0.0);
     rec.flow.thin_layer_friction_angle_deg = f.number_in_or("thin_layer_friction_angle_deg", 0.0, 89.0, 0.0);
     rec.flow.thin_layer_decay_grains = f.number_in_or("thin_layer_decay_grains", 0.0, 1000.0, 0.0);
+    rec.flow.rate_friction_angle_deg = f.number_in_or("rate_friction_angle_deg", 0.0, 89.0, 0.0);
+    rec.flow.rate_friction_i0 = f.number_in_or("rate_friction_i0", 0.0, 10.0, 0.0);
     rec.flow.bed_start_angle_deg = f.number_in_or("bed_start_angle_deg", 0.0, 89.0, 0.0);
     rec.flow.impact_sheet_speed_ratio = f.number_in_or("impact_sheet_speed_ratio", 0.0, 1.0, 0.0);
     f.reject_unknown();

@@ -34,12 +34,14 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::stri
   const bool walls = m.count("slot_wall_flowing_friction_angle_deg") > 0;
   const double wall_deg = walls ? quantity("slot_wall_flowing_friction_angle_deg") : 0.0;
   const double grain_m = quantity("particle_diameter_m");
+  const double floor_rate_i0 = m.count("floor_rate_friction_i0") > 0 ? quantity("floor_rate_friction_i0") : 0.0;
   const fs::path summary = dir / "summary.csv";
   const CsvNumbers csv = read_csv_numbers(summary);
   std::vector<DemColumn> out;
   for (const auto& row : csv.rows) {
     DemColumn c;
     c.floor_friction_deg = floor_deg;
+    c.floor_rate_friction_i0 = floor_rate_i0;
     c.slot_wall_friction_deg = wall_deg;
     c.grain_diameter_over_r0 = grain_m / row[csv.column("r0_m", summary)];
     c.slot = row[csv.column("slot", summary)] != 0.0;
@@ -98,6 +100,10 @@ terrain::SoilFlowParameters calibrated_flow(const fs::path& material_csv, terrai
   base.thin_layer_decay_grains = quantity("thin_layer_decay_grains");
   base.grain_diameter_m = quantity("particle_diameter_m");
   base.bed_start_angle_deg = quantity("bed_start_angle_deg");
+  // The friction's rise with the inertial number where the material gives it.
+  const bool rate = m.count("rate_friction_angle_deg") > 0;
+  base.rate_friction_angle_deg = rate ? quantity("rate_friction_angle_deg") : 0.0;
+  base.rate_friction_i0 = rate ? quantity("rate_friction_i0") : 0.0;
   return base;
 }
 
@@ -114,6 +120,7 @@ terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool 
   c.momentum = momentum;
   c.momentum_params.raining = raining;
   c.momentum_params.floor_friction_deg = dem.floor_friction_deg;
+  c.momentum_params.floor_rate_friction_i0 = dem.floor_rate_friction_i0;
   c.momentum_params.grain_diameter_m = dem.grain_diameter_over_r0 * c.r0_m;
   c.drop_over_r0 = dem.drop_over_r0;
   c.slot_wall_friction_deg = dem.slot_wall_friction_deg;
@@ -215,6 +222,7 @@ std::vector<DemStoppingLayer> read_dem_stopping_layers(const fs::path& dem_dir) 
   const std::map<std::string, double> m = read_csv_quantities(material);
   const double grain_m = quantity_in(m, material, "particle_diameter_m");
   const double floor_deg = quantity_in(m, material, "floor_flowing_friction_angle_deg");
+  const double floor_rate_i0 = quantity_in(m, material, "floor_rate_friction_i0");
   const fs::path path = dem_dir / "calibration" / "results" / "stopping_summary.csv";
   const CsvNumbers csv = read_csv_numbers(path);
   std::vector<DemStoppingLayer> out;
@@ -229,6 +237,7 @@ std::vector<DemStoppingLayer> read_dem_stopping_layers(const fs::path& dem_dir) 
     d.travel_ratio = row[csv.column("travel_ratio", path)];
     d.grain_m = grain_m;
     d.floor_friction_deg = floor_deg;
+    d.floor_rate_friction_i0 = floor_rate_i0;
     out.push_back(d);
   }
   if (out.empty()) throw std::runtime_error(path.string() + ": no runs");

@@ -144,6 +144,7 @@ stage_chute_post() {
   wait_ok
   local cal="$DEM/calibration/results"
   "$PY" "$DEM/tools/chute.py" "$cal" "$SCRATCH/chute"
+  "$PY" "$DEM/tools/rate_friction.py" "$cal"
   "$PY" "$DEM/tools/material_csv.py" "$cal" "$DEM/calibration/material.csv"
   write_meta
 }
@@ -433,6 +434,7 @@ stage_friction_post() {
     mkdir -p "$res"
     "$PY" "$DEM/tools/repose.py" "$f/pile/pile_final.dump" "$res/repose.csv"
     "$PY" "$DEM/tools/chute.py" "$res" "$f/chute"
+    "$PY" "$DEM/tools/rate_friction.py" "$res"
     "$PY" "$DEM/tools/erodible.py" "$res" "$f/erodible"
     "$PY" "$DEM/tools/material_csv.py" --flow "$res" "$res/material.csv"
     "$PY" "$DEM/tools/collapse.py" "$f/collapse" "$res"

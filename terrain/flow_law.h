@@ -59,6 +59,18 @@ struct SoilFlowParameters {
   double grain_diameter_m = 0.0;
   double thin_layer_friction_angle_deg = 0.0;
   double thin_layer_decay_grains = 0.0;
+  // A layer's friction rises with its speed (Jop, Forterre and Pouliquen
+  // 2006, "A constitutive law for dense granular flows", Nature 441, (2),
+  // depth-averaged as Pouliquen and Forterre 2002 do):
+  //   mu(h, I) = tan theta_stop(h) + (tan theta_r - tan theta_stop(h)) I / (I_0 + I),
+  //   I = u d / (h sqrt(g h)),
+  // u the layer's mean speed, h the depth it moves in, theta_r the rate
+  // friction angle below; needs the grain diameter. Measured on the DEM's
+  // inclined layers as they slow (dem/tools/rate_friction.py). 0: the
+  // friction does not rise with speed. Read where the fast flow asks for it
+  // (MomentumFlowParameters::rate_friction).
+  double rate_friction_angle_deg = 0.0;
+  double rate_friction_i0 = 0.0;
   // The angle at which a deep bed of the soil at rest starts to flow by
   // itself (Pouliquen's theta_start for a thick layer; Daerr and Douady
   // 1999): a moving layer carries away only what a flow laid down, or a bed

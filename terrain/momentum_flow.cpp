@@ -28,6 +28,13 @@ double earth_pressure(double phi_deg, double delta_deg, double sign) {
 double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, -1.0); }
 double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, 1.0); }
 
+double MomentumFlow::rate_rise(double mu_stop, double i0, double h_m, double speed_m_s) const {
+  if (!(speed_m_s > 0.0)) return mu_stop;
+  if (!(h_m > 0.0)) return std::max(mu_stop, rate_mu_);
+  const double inertial = speed_m_s * rate_grain_m_ / (h_m * std::sqrt(kGravity_m_s2 * h_m));
+  return mu_stop + std::max(0.0, rate_mu_ - mu_stop) * inertial / (i0 + inertial);
+}
+
 MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameters& params, double step_dt_s)
     : step_dt_s_(step_dt_s),
       d_(grid.cell_size_m()),
@@ -60,6 +67,16 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
     thin_excess_ = std::max(0.0, tan_deg(soil.thin_layer_friction_angle_deg) - mu_);
     inv_decay_m_ = 1.0 / (soil.thin_layer_decay_grains * grain_m);
   }
+  if (params.rate_friction) {
+    if (!(soil.rate_friction_angle_deg > 0.0 && grain_m > 0.0))
+      throw std::invalid_argument("momentum flow: rate_friction needs the soil's rate_friction_angle_deg and grain diameter");
+    rate_mu_ = tan_deg(soil.rate_friction_angle_deg);
+    rate_i0_ = soil.rate_friction_i0;
+    rate_grain_m_ = grain_m;
+  }
+  if (!(params.floor_rate_friction_i0 >= 0.0 && params.floor_rate_friction_i0 <= 10.0))
+    throw std::invalid_argument("momentum flow: floor_rate_friction_i0 must be in [0, 10]");
+  floor_rate_i0_ = params.floor_rate_friction_i0;
   if (params.side_wall_gap_m > 0.0) {
     if (!(params.side_wall_friction_deg >= 0.0 && params.side_wall_friction_deg < 89.0))
       throw std::invalid_argument("momentum flow: side_wall_friction_deg must be in [0, 89)");
@@ -504,9 +521,10 @@ void MomentumFlow::accelerate(const GranularGrid& grid, double dt_s) {
     // A layer with no static soil under it rubs on the hard base; on soil,
     // the thin-layer law reads the depth the layer moves in, and so do the
     // side walls (Jop et al. 2005: the walls' pressure over that depth).
-    const double depth_m = thin_excess_ > 0.0 || wall_mu_over_gap_ > 0.0 ? layer_depth_m(grid, donor, f) : f;
-    const double mu = on_floor(grid, donor, flowing_[donor]) ? floor_mu_ : bed_friction_tan(depth_m);
-    const double speed = std::sqrt(un * un + cross * cross), loss = (mu + wall_mu_over_gap_ * depth_m) * kGravity_m_s2 * dt_s;
+    const double depth_m = thin_excess_ > 0.0 || wall_mu_over_gap_ > 0.0 || rate_mu_ > 0.0 ? layer_depth_m(grid, donor, f) : f;
+    const double speed = std::sqrt(un * un + cross * cross);
+    const double mu = on_floor(grid, donor, flowing_[donor]) ? floor_friction_tan(f, speed) : bed_friction_tan(depth_m, speed);
+    const double loss = (mu + wall_mu_over_gap_ * depth_m) * kGravity_m_s2 * dt_s;
     return speed > loss ? un * (speed - loss) / speed : 0.0;
   };
   new_x_.resize(x_faces_.size());

@@ -14,7 +14,8 @@
 // the mu(I) law (Pouliquen 1999, Jop et al. 2006: the angle at which a
 // thick flow stops; terrain/flow_law.h), rising in layers a few grains
 // thick by Pouliquen's thin-layer law (read on the depth the layer moves
-// in: layer_depth), or on a bare hard base the floor's.
+// in: layer_depth), or on a bare hard base the floor's; with rate_friction
+// both rise with the layer's inertial number (the mu(I) law's rise).
 // Advection is Stelling and Duinmeijer's (2003) momentum-conserving upwind
 // form with its cross terms: a face's velocity mixes with what arrives at
 // its donor cell from any side, so a layer moving diagonally keeps both
@@ -120,6 +121,17 @@ struct MomentumFlowParameters {
   // flow event laid down and a bed past that angle (docs/fast_flows.md);
   // false: the core holds the repose angle under moving layers too.
   bool erosion = true;
+  // The bed friction rises with the layer's inertial number (the soil's
+  // rate_friction_angle_deg and rate_friction_i0, terrain/flow_law.h; Jop,
+  // Forterre and Pouliquen 2006), read on the depth the layer moves in; on
+  // the hard base (floor_friction_deg set) from the floor's stop friction to
+  // the same limit with floor_rate_friction_i0 (0: the floor's does not
+  // rise), read on the flowing layer. Off by default: the automaton's
+  // deposition, which sessions run, was measured without it and stands in
+  // for the friction's rise (docs/fast_flows.md, "The friction at speed");
+  // with owns_cells the layer's own friction has to stop it.
+  bool rate_friction = false;
+  double floor_rate_friction_i0 = 0.0;
   // The depth of grains a moving layer moves in, which the thin-layer law
   // (Pouliquen 1999) and the side walls read (docs/fast_flows.md, "Which
   // depth the layer moves in").
@@ -229,9 +241,17 @@ class MomentumFlow {
   bool pressing() const { return !impacted_.empty(); }   // a landing's pressure has not ended yet
   double bed_friction_tan() const { return mu_; }
   // The bed friction of a layer h_m thick (the soil's thin-layer law; h_m
-  // the depth the layer moves in, layer_depth_m).
-  double bed_friction_tan(double h_m) const { return thin_excess_ > 0.0 ? mu_ + thin_excess_ * std::exp(-h_m * inv_decay_m_) : mu_; }
+  // the depth the layer moves in, layer_depth_m) moving at speed_m_s (with
+  // rate_friction, its rise with the inertial number).
+  double bed_friction_tan(double h_m, double speed_m_s = 0.0) const {
+    const double stop = thin_excess_ > 0.0 ? mu_ + thin_excess_ * std::exp(-h_m * inv_decay_m_) : mu_;
+    return rate_mu_ > 0.0 ? rate_rise(stop, rate_i0_, h_m, speed_m_s) : stop;
+  }
   double floor_friction_tan() const { return floor_mu_ >= 0.0 ? floor_mu_ : mu_; }
+  // A flowing layer h_m thick on the hard base, at speed_m_s.
+  double floor_friction_tan(double h_m, double speed_m_s) const {
+    return rate_mu_ > 0.0 && floor_rate_i0_ > 0.0 ? rate_rise(floor_friction_tan(), floor_rate_i0_, h_m, speed_m_s) : floor_friction_tan();
+  }
   double start_friction_tan() const { return mu_start_; }
   double earth_pressure_active() const { return k_active_; }
   double earth_pressure_passive() const { return k_passive_; }
@@ -321,6 +341,11 @@ class MomentumFlow {
   int nx_ = 0, ny_ = 0;
   double step_dt_s_ = 0.0, d_ = 0.0;
   double thin_excess_ = 0.0, inv_decay_m_ = 0.0;  // tan theta_2 - tan theta_1, 1 / (A d)
+  // rate_friction: tan theta_r (0: off), I_0 on the grains and on the floor, the grain diameter (m).
+  double rate_mu_ = 0.0, rate_i0_ = 0.0, floor_rate_i0_ = 0.0, rate_grain_m_ = 0.0;
+  // mu(h, I) = mu_stop + (tan theta_r - mu_stop) I / (I_0 + I), I = u d / (h sqrt(g h))
+  // (terrain/flow_law.h).
+  double rate_rise(double mu_stop, double i0, double h_m, double speed_m_s) const;
   double mu_ = 0.0, bed_start_tan_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
   long substeps_run_ = 0, pressed_steps_ = 0;

@@ -13,8 +13,13 @@
 // travel (dem_stopping_reference_test.cpp): its agreement rests on that
 // factor making up for a friction that does not rise with speed as the
 // DEM's layers' does. The interface's (kInterface, the default), which the
-// DEM's stopping layers follow, runs the collapses long (held: exact books,
-// rest, longer than the mean speed's rule).
+// DEM's stopping layers follow, runs the collapses long with the stop
+// friction alone (longer than the mean speed's rule: held with the
+// sessions' sands, whose grains are too fine for the rise); with the
+// friction's rise with the inertial number (rate_friction, fitted on the
+// inclined layers, within 5-11 % of the stopping layers' friction) it meets
+// the calibrated tubes' run-outs, but not yet their heights at a >= 2, the
+// coarser tubes or the other materials ("The friction at speed").
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,6 +43,12 @@ terrain::CollapseRun run_owned(terrain::CollapseCase c, const terrain::SoilFlowP
   c.momentum_params.owns_cells = true;
   c.momentum_params.deposition = deposition;
   return terrain::run_column_collapse(c, soil);
+}
+
+// The interface's deposition with the friction's rise (the DEM's materials).
+terrain::CollapseRun run_owned_rising(terrain::CollapseCase c, const terrain::SoilFlowParameters& soil) {
+  c.momentum_params.rate_friction = true;
+  return run_owned(c, soil, Deposition::kInterface);
 }
 
 // The sessions' sands, 15-44 % short of the published law with the shipped
@@ -67,10 +78,13 @@ TEST(FlowOwningItsCells, TheSessionsSandsMeetThePublishedLaw) {
 }
 
 // dem_sand against its DEM's standing tubes (a = 0.5 to 4 at 12.5 grains per
-// radius, 0.5 to 2 at 25): r99 within 15 % at 10 and 5 cm (the shipped
-// model: 3-32 % short); but the heights up to 29 % low at a >= 2 (held at
-// 30 %) and the edges 6-25 % long (the shipped model's within 5 % on the
-// 12.5-grain tubes).
+// radius, 0.5 to 2 at 25). The mean speed's rule: r99 within 15 % at 10
+// and 5 cm (the shipped model: 3-32 % short); but the heights up to 29 %
+// low at a >= 2 (held at 30 %) and the edges 6-25 % long (the shipped
+// model's within 5 % on the 12.5-grain tubes). The interface with the
+// friction's rise: r99 -11 to -1 % at 12.5 grains per radius (held at
+// 15 %), +8 to +20 % at 25 (held at 25 %); heights 0 to -37 % (held at
+// 40 %).
 TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   for (const char* folder : {"results", kWideTubeResults}) {
@@ -79,10 +93,10 @@ TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
       for (double cell : {0.1, 0.05}) {
         const terrain::CollapseCase c = dem_column_case(d, cell, true, true);
         const terrain::CollapseRun run = run_owned(c, sand), shipped = terrain::run_column_collapse(c, sand);
-        const terrain::CollapseRun interface = run_owned(c, sand, Deposition::kInterface);
+        const terrain::CollapseRun interface = run_owned_rising(c, sand);
         std::printf("[ measured ] owning its cells, %s, %.1f grains per radius, a = %g at %g r0: r99 %.2f (DEM %.2f, %+.1f %%; shipped %.2f; "
-                    "the interface's %.2f, %+.1f %%), edge %.2f (DEM %.2f; shipped %.2f), height %.2f (DEM %.2f, %+.1f %%; shipped %.2f; "
-                    "the interface's %.2f, %+.1f %%)\n",
+                    "the interface's with the rise %.2f, %+.1f %%), edge %.2f (DEM %.2f; shipped %.2f), height %.2f (DEM %.2f, %+.1f %%; "
+                    "shipped %.2f; the interface's with the rise %.2f, %+.1f %%)\n",
                     folder, 1.0 / d.grain_diameter_over_r0, d.aspect, cell, run.runout_over_r0, d.runout, 100.0 * (run.runout_over_r0 / d.runout - 1.0),
                     shipped.runout_over_r0, interface.runout_over_r0, 100.0 * (interface.runout_over_r0 / d.runout - 1.0),
                     run.edge_runout_over_r0, d.edge_runout, shipped.edge_runout_over_r0,
@@ -92,18 +106,22 @@ TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
         const std::string where = std::string(folder) + ", " + column_name(d) + ", " + std::to_string(cell);
         EXPECT_TRUE(run.books_exact && run.flow_at_rest) << where;
         EXPECT_TRUE(interface.books_exact && interface.flow_at_rest) << where;
-        EXPECT_GT(interface.runout_over_r0, run.runout_over_r0) << where;
         EXPECT_LT(std::abs(run.runout_over_r0 / d.runout - 1.0), 0.15) << where;
         EXPECT_LT(std::abs(run.final_height_over_r0 / d.height - 1.0), 0.30) << where;
+        const bool coarse = d.grain_diameter_over_r0 > 0.06;  // 12.5 grains per radius
+        EXPECT_LT(std::abs(interface.runout_over_r0 / d.runout - 1.0), coarse ? 0.15 : 0.25) << where;
+        EXPECT_LT(std::abs(interface.final_height_over_r0 / d.height - 1.0), 0.40) << where;
       }
     }
   }
 }
 
-// The landing and the channel: the dropped column stops short (r99 66-68 %
-// under the DEM's, the shipped model's 40 and 60 %; the edge 17-20 % short,
-// the shipped model's +19 and -2 %) and the slot runs 21-26 % long (the
-// shipped model 7-9 %). Held here: exact books and rest.
+// The landing and the channel: with the mean speed's rule the dropped
+// column stops short (r99 66-68 % under the DEM's, the shipped model's 40
+// and 60 %; the edge 17-20 % short, the shipped model's +19 and -2 %) and
+// the slot runs 21-26 % long (the shipped model 7-9 %); the interface with
+// the rise: the dropped column's edge +7 / +4 %, the slot's r99 +42 / +40 %
+// (10 / 5 cm). Held here: exact books and rest.
 TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   for (const DemColumn& d : read_dem_columns(repository_dem_dir())) {
@@ -111,9 +129,9 @@ TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
     for (double cell : {0.1, 0.05}) {
       const terrain::CollapseCase c = dem_column_case(d, cell, true, true);
       const terrain::CollapseRun run = run_owned(c, sand), shipped = terrain::run_column_collapse(c, sand);
-      const terrain::CollapseRun interface = run_owned(c, sand, Deposition::kInterface);
-      std::printf("[ measured ] owning its cells, %s at %g r0: r99 %.2f (DEM %.2f; shipped %.2f; the interface's %.2f), edge %.2f "
-                  "(DEM %.2f; shipped %.2f; the interface's %.2f), height %.2f (DEM %.2f; shipped %.2f; the interface's %.2f)\n",
+      const terrain::CollapseRun interface = run_owned_rising(c, sand);
+      std::printf("[ measured ] owning its cells, %s at %g r0: r99 %.2f (DEM %.2f; shipped %.2f; the interface's with the rise %.2f), edge %.2f "
+                  "(DEM %.2f; shipped %.2f; the interface's with the rise %.2f), height %.2f (DEM %.2f; shipped %.2f; the interface's with the rise %.2f)\n",
                   column_name(d).c_str(), cell, run.runout_over_r0, d.runout, shipped.runout_over_r0, interface.runout_over_r0,
                   run.edge_runout_over_r0, d.edge_runout, shipped.edge_runout_over_r0, interface.edge_runout_over_r0,
                   run.final_height_over_r0, d.height, shipped.final_height_over_r0, interface.final_height_over_r0);
@@ -126,7 +144,8 @@ TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
 // The friction study's materials: the owning flow's run-outs stand in the
 // DEM's order (the smoother longer, the rougher shorter) but apart
 // faintly: r99 +9-10 % and -4 % at a = 1 where the DEM's moves +61 and
-// -22 %. Its deposition keeps the same share of a slowing layer's
+// -22 % (the interface with the rise, each material's own: +7-10 % and
+// -4-5 %). Its deposition keeps the same share of a slowing layer's
 // thickness on every material, where the DEM's profiles
 // (profile_summary.csv) show the smoother grains' base sliding (28-43 % of
 // the top's speed behind the front) and the rougher's at rest (3-5 %).
@@ -143,17 +162,17 @@ TEST(FlowOwningItsCells, FollowsTheMaterialTheDemsWayButFaintly) {
   soils[1] = sand;  // dem_sand's own table (its calibration's: dem_friction_study_test)
   for (double cell : {0.1, 0.05}) {
     for (double a : {0.5, 1.0, 2.0}) {
-      double r99[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // the mean speed's rule, the interface's
+      double r99[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // the mean speed's rule, the interface's with the rise
       for (int m = 0; m < 3; ++m)
         for (const DemColumn& d : columns[m])
           if (standing_tube(d) && d.aspect == a) {
             for (int k = 0; k < 2; ++k) {
-              const terrain::CollapseRun run =
-                  run_owned(dem_column_case(d, cell, true, true), soils[m], k == 0 ? Deposition::kMeanSpeed : Deposition::kInterface);
+              const terrain::CollapseCase c = dem_column_case(d, cell, true, true);
+              const terrain::CollapseRun run = k == 0 ? run_owned(c, soils[m]) : run_owned_rising(c, soils[m]);
               EXPECT_TRUE(run.books_exact && run.flow_at_rest) << folders[m] << ", a = " << a;
               r99[k][m] = run.runout_over_r0;
             }
-            std::printf("[ measured ] owning its cells, %s, a = %g at %g r0: r99 %.2f, the interface's %.2f (DEM %.2f)\n",
+            std::printf("[ measured ] owning its cells, %s, a = %g at %g r0: r99 %.2f, the interface's with the rise %.2f (DEM %.2f)\n",
                         folders[m], a, cell, r99[0][m], r99[1][m], d.runout);
           }
       for (int k = 0; k < 2; ++k) {

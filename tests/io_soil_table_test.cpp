@@ -82,6 +82,13 @@ TEST(SoilTable, BadFilesNameFileLineElementAndAttribute) {
   flow = kFlow;  // a thin layer's friction below the thick one's
   flow.insert(flow.find("/>"), " grain_diameter_m=\"0.001\" thin_layer_friction_angle_deg=\"20\" thin_layer_decay_grains=\"5\"");
   expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "thin_layer_friction_angle_deg"});
+  flow = kFlow;  // a friction's rise with the inertial number with no grain size to read it
+  flow.insert(flow.find("/>"), " rate_friction_angle_deg=\"40\" rate_friction_i0=\"0.1\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "rate_friction_angle_deg"});
+  flow = kFlow;  // and one whose I_0 is out of range
+  flow.insert(flow.find("/>"), " grain_diameter_m=\"0.001\" thin_layer_friction_angle_deg=\"32\" thin_layer_decay_grains=\"5\" "
+                               "rate_friction_angle_deg=\"40\" rate_friction_i0=\"0\"");
+  expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "rate_friction_i0"});
   flow = kFlow;  // a bed that starts to flow above the repose angle
   flow.insert(flow.find("/>"), " bed_start_angle_deg=\"40\"");
   expect_error("<soils>\n<soil id=\"a\">\n" + flow + "\n" + kTm + "\n</soil>\n</soils>\n", {":3:", "bed_start_angle_deg"});

@@ -360,6 +360,56 @@ TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheDepthItMovesIn) {
   }
 }
 
+// The friction's rise with the inertial number (Jop, Forterre and Pouliquen
+// 2006; terrain/flow_law.h): a 5 cm slab sent at v0 over a deep bed, its
+// friction read on its own 5 cm (kFlowing), slides as a block whose
+// friction rises with its speed, mu(u) = mu_stop + (mu_r - mu_stop) I / (I_0
+// + I) with I = u d / (h sqrt(g h)): the distance integral of u du / (g
+// mu(u)) from 0 to v0, evaluated apart from the flow by the midpoint rule.
+// On the bare floor the same rise from the floor's friction with the floor's
+// I_0. Without the soil's rate angle the flow refuses rate_friction.
+TEST(MomentumFlow, ASlabsFrictionRisesWithItsInertialNumber) {
+  SoilFlowParameters soil = thin_layer_sand();
+  soil.rate_friction_angle_deg = 40.05;  // dem_sand's (assets/soils.xml)
+  soil.rate_friction_i0 = 0.1317;
+  const double v0 = 2.0, h = 0.05;
+  auto block_m = [&](double mu_stop, double i0) {
+    const double mu_r = std::tan(deg_to_rad(soil.rate_friction_angle_deg));
+    const int n = 20000;
+    double x = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double u = (k + 0.5) * v0 / n;
+      const double inertial = u * soil.grain_diameter_m / (h * std::sqrt(kGravity_m_s2 * h));
+      x += u * (v0 / n) / (kGravity_m_s2 * (mu_stop + (mu_r - mu_stop) * inertial / (i0 + inertial)));
+    }
+    return x;
+  };
+  const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
+  const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
+  const double mu_stop = tan1 + (tan2 - tan1) * std::exp(-h / (soil.thin_layer_decay_grains * soil.grain_diameter_m));
+  MomentumFlowParameters bed, floor;
+  bed.layer_depth = MomentumFlowParameters::LayerDepth::kFlowing;
+  bed.rate_friction = floor.rate_friction = true;
+  floor.floor_friction_deg = 20.35;  // the DEM columns' floor (dem/calibration/material.csv)
+  floor.floor_rate_friction_i0 = 0.7635;
+  const double on_bed = slab_slide_m(bed, v0, soil, 0.5), on_floor = slab_slide_m(floor, v0, soil);
+  const double bed_block = block_m(mu_stop, soil.rate_friction_i0);
+  const double floor_block = block_m(std::tan(deg_to_rad(20.35)), 0.7635);
+  bed.rate_friction = false;
+  const double no_rise = slab_slide_m(bed, v0, soil, 0.5);
+  std::printf("[ measured ] a 5 cm slab at %.0f m/s: %.3f m on the bed (block with the rise %.3f m; without it the flow %.3f m), "
+              "%.3f m on the floor (block %.3f m)\n", v0, on_bed, bed_block, no_rise, on_floor, floor_block);
+  EXPECT_NEAR(on_bed, bed_block, 0.03 * bed_block);
+  EXPECT_NEAR(on_floor, floor_block, 0.05 * floor_block);
+  EXPECT_LT(on_bed, 0.9 * no_rise);
+  SoilFlowParameters none = thin_layer_sand();
+  const GridSpec spec = strip(16);
+  const GranularGrid g(spec, none, 0.002, 100000);
+  MomentumFlowParameters asks;
+  asks.rate_friction = true;
+  EXPECT_THROW(MomentumFlow(g, asks, 0.002), std::invalid_argument);
+}
+
 // What a flow event laid down moves with the layer over it: a 5 cm deposit
 // landed at rest on the bed lies down while a slab far off keeps the event
 // going; the slab then sent over the deposit at v0 slides as the Coulomb

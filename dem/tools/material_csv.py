@@ -5,7 +5,8 @@ Usage: material_csv.py CALIBRATION_RESULTS_DIR OUT.csv
        material_csv.py --flow RESULTS_DIR OUT.csv
 Reads repose.csv, shear_box.csv (Mohr-Coulomb comment lines), sliding_plate.csv
 (mean line), chute_summary.csv, chute_thickness.csv, bed.csv and, where present,
-erodible_summary.csv and impact_summary.csv from the results folder.
+erodible_summary.csv, impact_summary.csv and chute_rate.csv (the friction's rise
+with the inertial number, dem/tools/rate_friction.py) from the results folder.
 
 From the inclined layers (chute_summary.csv): a flowing layer's friction on
 the grains (the thickest layer run: the limit a thick flow reaches, what a
@@ -85,7 +86,19 @@ def flow_rows(d):
             rows["bed_start_angle_deg"] = (0.5 * (max(held_all) + min(flowed)), "deg",
                                            "calibration/erodible.in (held at %g deg under every layer, flowed by itself at %g)"
                                            % (max(held_all), min(flowed)))
+    rate_path = os.path.join(d, "chute_rate.csv")
+    if os.path.exists(rate_path):
+        rate = kv(rate_path)
+        source = "calibration/chute.in (the layers as they slow, against the inertial number; dem/tools/rate_friction.py)"
+        rows["rate_friction_angle_deg"] = (float(rate["rate_friction_angle_deg"]), "deg", source)
+        rows["rate_friction_i0"] = (float(rate["rate_friction_i0"]), "-", source)
+        if "floor_rate_friction_i0" in rate:
+            rows["floor_rate_friction_i0"] = (float(rate["floor_rate_friction_i0"]), "-",
+                                              source.replace("the layers", "the layers on the columns' floor"))
     return rows
+
+
+RATE_ROWS = ("rate_friction_angle_deg", "rate_friction_i0", "floor_rate_friction_i0")
 
 
 def write(out, rows):
@@ -100,9 +113,9 @@ def main():
     if sys.argv[1] == "--flow":
         d, out = sys.argv[2], sys.argv[3]
         flow = flow_rows(d)
-        order = ["repose_angle_deg", "flowing_friction_angle_deg", "thin_layer_friction_angle_deg",
+        order = ("repose_angle_deg", "flowing_friction_angle_deg", "thin_layer_friction_angle_deg",
                  "thin_layer_decay_grains", "floor_flowing_friction_angle_deg", "slot_wall_flowing_friction_angle_deg",
-                 "particle_diameter_m", "bed_start_angle_deg"]
+                 "particle_diameter_m", "bed_start_angle_deg") + RATE_ROWS
         write(out, [(q,) + flow[q] for q in order if q in flow])
         return
     d, out = sys.argv[1], sys.argv[2]
@@ -133,7 +146,7 @@ def main():
         ("bulk_density_kg_m3", float(bed["bulk_density_kg_m3"]), "kg/m3", "blade/bed.in (core of the settled bed)"),
         ("particle_diameter_m",) + flow["particle_diameter_m"],
         ("particle_density_kg_m3", 2650.0, "kg/m3", "material.in"),
-    ] + rows_optional
+    ] + rows_optional + [(q,) + flow[q] for q in RATE_ROWS if q in flow]
     write(out, rows)
 
 
