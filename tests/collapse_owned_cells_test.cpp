@@ -45,9 +45,13 @@ terrain::CollapseRun run_owned(terrain::CollapseCase c, const terrain::SoilFlowP
   return terrain::run_column_collapse(c, soil);
 }
 
-// The interface's deposition with the friction's rise (the DEM's materials).
+// The interface's deposition with the friction's rise (the DEM's materials),
+// read on the flowing layer: under the interface the laid-down grains are at
+// rest, and a layer on a bed at rest rubs at its own thickness's friction
+// (the DEM's erodible bed; docs/fast_flows.md, "The friction at speed").
 terrain::CollapseRun run_owned_rising(terrain::CollapseCase c, const terrain::SoilFlowParameters& soil) {
   c.momentum_params.rate_friction = true;
+  c.momentum_params.layer_depth = terrain::MomentumFlowParameters::LayerDepth::kFlowing;
   return run_owned(c, soil, Deposition::kInterface);
 }
 
@@ -82,9 +86,9 @@ TEST(FlowOwningItsCells, TheSessionsSandsMeetThePublishedLaw) {
 // and 5 cm (the shipped model: 3-32 % short); but the heights up to 29 %
 // low at a >= 2 (held at 30 %) and the edges 6-25 % long (the shipped
 // model's within 5 % on the 12.5-grain tubes). The interface with the
-// friction's rise: r99 -11 to -1 % at 12.5 grains per radius (held at
-// 15 %), +8 to +20 % at 25 (held at 25 %); heights 0 to -37 % (held at
-// 40 %).
+// friction's rise: r99 -13 to -1 % at 12.5 grains per radius (held at
+// 15 %), +7 to +19 % at 25 (held at 25 %); heights +9 to -28 % (held at
+// 30 %).
 TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   for (const char* folder : {"results", kWideTubeResults}) {
@@ -110,7 +114,7 @@ TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
         EXPECT_LT(std::abs(run.final_height_over_r0 / d.height - 1.0), 0.30) << where;
         const bool coarse = d.grain_diameter_over_r0 > 0.06;  // 12.5 grains per radius
         EXPECT_LT(std::abs(interface.runout_over_r0 / d.runout - 1.0), coarse ? 0.15 : 0.25) << where;
-        EXPECT_LT(std::abs(interface.final_height_over_r0 / d.height - 1.0), 0.40) << where;
+        EXPECT_LT(std::abs(interface.final_height_over_r0 / d.height - 1.0), 0.30) << where;
       }
     }
   }
@@ -120,7 +124,7 @@ TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
 // column stops short (r99 66-68 % under the DEM's, the shipped model's 40
 // and 60 %; the edge 17-20 % short, the shipped model's +19 and -2 %) and
 // the slot runs 21-26 % long (the shipped model 7-9 %); the interface with
-// the rise: the dropped column's edge +7 / +4 %, the slot's r99 +42 / +40 %
+// the rise: the dropped column's edge +7 / +4 %, the slot's r99 +44 / +41 %
 // (10 / 5 cm). Held here: exact books and rest.
 TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
@@ -144,8 +148,8 @@ TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
 // The friction study's materials: the owning flow's run-outs stand in the
 // DEM's order (the smoother longer, the rougher shorter) but apart
 // faintly: r99 +9-10 % and -4 % at a = 1 where the DEM's moves +61 and
-// -22 % (the interface with the rise, each material's own: +7-10 % and
-// -4-5 %). Its deposition keeps the same share of a slowing layer's
+// -22 % (the interface with the rise, each material's own: +8-9 % and
+// -4 %). Its deposition keeps the same share of a slowing layer's
 // thickness on every material, where the DEM's profiles
 // (profile_summary.csv) show the smoother grains' base sliding (28-43 % of
 // the top's speed behind the front) and the rougher's at rest (3-5 %).
