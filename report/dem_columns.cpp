@@ -34,7 +34,7 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::stri
   const bool walls = m.count("slot_wall_flowing_friction_angle_deg") > 0;
   const double wall_deg = walls ? quantity("slot_wall_flowing_friction_angle_deg") : 0.0;
   const double grain_m = quantity("particle_diameter_m");
-  const double floor_rate_i0 = m.count("floor_rate_friction_i0") > 0 ? quantity("floor_rate_friction_i0") : 0.0;
+  const double floor_rate_i0 = quantity("floor_rate_friction_i0");
   const fs::path summary = dir / "summary.csv";
   const CsvNumbers csv = read_csv_numbers(summary);
   std::vector<DemColumn> out;
@@ -235,6 +235,8 @@ std::vector<DemStoppingLayer> read_dem_stopping_layers(const fs::path& dem_dir) 
     d.friction_top = row[csv.column("friction_top", path)];
     d.stop_time_ratio = row[csv.column("stop_time_ratio", path)];
     d.travel_ratio = row[csv.column("travel_ratio", path)];
+    d.flowing_m = row[csv.column("fit_flowing_grains", path)] * grain_m;
+    d.flowing_m_s = row[csv.column("fit_flowing_m_s", path)];
     d.grain_m = grain_m;
     d.floor_friction_deg = floor_deg;
     d.floor_rate_friction_i0 = floor_rate_i0;

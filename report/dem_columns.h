@@ -43,8 +43,8 @@ struct DemColumn {
   // never from the columns: the floor's stop angle (deg) and the walls'
   // friction angle (deg).
   double floor_friction_deg = 0.0, slot_wall_friction_deg = 0.0;
-  // The floor's friction's rise with the inertial number (I_0; 0 where the
-  // material gives none: dem/tools/rate_friction.py).
+  // The floor's friction's rise with the inertial number (I_0;
+  // dem/tools/rate_friction.py).
   double floor_rate_friction_i0 = 0.0;
   // The grains' diameter over r0 (0.008 m / 0.1 m, or / 0.2 m): a thin layer's friction
   // depends on its thickness in grains, which the grid's column keeps.
@@ -137,10 +137,13 @@ double slope_deg(double tan_beta);
 // flowing grains, and the deposition's dimensionless signature: t_stop a /
 // u0 and the mass centre's travel a / u0^2 (a the top's deceleration); with
 // the calibration's grain diameter and floor friction, and its rise with the
-// inertial number (material.csv).
+// inertial number (material.csv). Over the frames that measure the friction:
+// the flowing layer's mean depth (above the layers at rest) and its grains'
+// mean speed.
 struct DemStoppingLayer {
   int base_type = 1, layers = 0;
   double theta_deg = 0.0, mean0_m_s = 0.0, friction_top = 0.0, stop_time_ratio = 0.0, travel_ratio = 0.0;
+  double flowing_m = 0.0, flowing_m_s = 0.0;
   double grain_m = 0.0, floor_friction_deg = 0.0, floor_rate_friction_i0 = 0.0;
 };
 std::vector<DemStoppingLayer> read_dem_stopping_layers(const std::filesystem::path& dem_dir);

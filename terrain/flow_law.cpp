@@ -61,8 +61,8 @@ void validate(const SoilFlowParameters& soil) {
   if (soil.rate_friction_angle_deg != 0.0 || soil.rate_friction_i0 != 0.0) {
     if (!(soil.grain_diameter_m > 0.0))
       bad_field(soil, "rate_friction_angle_deg", soil.rate_friction_angle_deg, "set only with grain_diameter_m");
-    const double floor_deg = std::max(soil.flowing_friction_deg(), soil.thin_layer_friction_angle_deg);
-    if (!(soil.rate_friction_angle_deg >= floor_deg && soil.rate_friction_angle_deg < 89.0))
+    const double min_deg = std::max(soil.flowing_friction_deg(), soil.thin_layer_friction_angle_deg);
+    if (!(soil.rate_friction_angle_deg >= min_deg && soil.rate_friction_angle_deg < 89.0))
       bad_field(soil, "rate_friction_angle_deg", soil.rate_friction_angle_deg, "in [flowing and thin-layer friction, 89)");
     if (!(soil.rate_friction_i0 > 0.0 && soil.rate_friction_i0 <= 10.0))
       bad_field(soil, "rate_friction_i0", soil.rate_friction_i0, "in (0, 10]");

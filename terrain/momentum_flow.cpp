@@ -68,8 +68,9 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
     inv_decay_m_ = 1.0 / (soil.thin_layer_decay_grains * grain_m);
   }
   if (params.rate_friction) {
-    if (!(soil.rate_friction_angle_deg > 0.0 && grain_m > 0.0))
-      throw std::invalid_argument("momentum flow: rate_friction needs the soil's rate_friction_angle_deg and grain diameter");
+    if (!(soil.rate_friction_angle_deg > 0.0 && soil.rate_friction_i0 > 0.0 && grain_m > 0.0))
+      throw std::invalid_argument(
+          "momentum flow: rate_friction needs the soil's rate_friction_angle_deg, rate_friction_i0 (> 0) and grain diameter");
     rate_mu_ = tan_deg(soil.rate_friction_angle_deg);
     rate_i0_ = soil.rate_friction_i0;
     rate_grain_m_ = grain_m;

@@ -15,7 +15,7 @@
 // DEM's layers' does. The interface's (kInterface, the default), which the
 // DEM's stopping layers follow, runs the collapses long with the stop
 // friction alone (longer than the mean speed's rule: held with the
-// sessions' sands, whose grains are too fine for the rise); with the
+// sessions' sands, which give no grain size, hence no rise); with the
 // friction's rise with the inertial number (rate_friction, fitted on the
 // inclined layers, within 5-11 % of the stopping layers' friction) it meets
 // the calibrated tubes' run-outs, but not yet their heights at a >= 2, the

@@ -35,6 +35,8 @@ TEST(DemFrictionStudy, DemSandsFlowLawIsItsCalibrations) {
   EXPECT_NEAR(read.thin_layer_friction_angle_deg, sand.thin_layer_friction_angle_deg, 0.02);
   EXPECT_NEAR(read.thin_layer_decay_grains, sand.thin_layer_decay_grains, 0.002);
   EXPECT_NEAR(read.bed_start_angle_deg, sand.bed_start_angle_deg, 0.02);
+  EXPECT_NEAR(read.rate_friction_angle_deg, sand.rate_friction_angle_deg, 0.02);
+  EXPECT_NEAR(read.rate_friction_i0, sand.rate_friction_i0, 0.0002);
   EXPECT_DOUBLE_EQ(read.grain_diameter_m, sand.grain_diameter_m);
   for (const FrictionStudyMaterial& m : kFrictionStudy)
     EXPECT_EQ(columns_material(repository_dem_dir(), m.results), repository_dem_dir() / "collapse" / m.results / "material.csv");

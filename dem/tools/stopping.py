@@ -33,6 +33,10 @@ and one row per run in stopping_summary.csv:
   stop_time_ratio       t_stop decel_top / mean0
   travel_ratio          the mass centre's travel to t_stop (the trapezoid
                         sum of mean_m_s) times decel_top / mean0^2
+  fit_flowing_grains,   over the frames of decel_top's fit: the flowing
+  fit_flowing_m_s       layer's mean depth (above the layers at rest, over
+                        d50) and its grains' mean speed (flowing_m_s), the
+                        layer whose friction friction_top measures
 
 The two ratios are the deposition's dimensionless signature: a plug sliding
 to rest (no deposition) has 1 and 1/2; a layer of linear profile whose every
@@ -93,6 +97,11 @@ def post_run(scratch, results, meta_path):
     if len(fit) < 3:
         raise SystemExit("stopping.py: %s: the top never slowed through %g-%g of its speed" % ((tag,) + TOP_FIT))
     decel_top = -line_fit(fit)[0]
+    # Over the same frames: the flowing layer's depth (above the layers at
+    # rest, in grains) and its grains' mean speed, where its friction acts.
+    window = [(depth - rest, flowing) for t, _, top, flowing, rest, depth in rows if TOP_FIT[0] * top0 <= top <= TOP_FIT[1] * top0]
+    fit_flowing_grains = sum(h for h, _ in window) / len(window)
+    fit_flowing_m_s = sum(u for _, u in window) / len(window)
     decel_mean0 = -line_fit([(t, m) for t, m, _, _, _, _ in rows if t <= MEAN_FIT_S + 1e-9])[0]
     stops = [t for t, _, top, _, _, _ in rows if top < REST_SHARE * top0]
     if not stops:
@@ -101,7 +110,7 @@ def post_run(scratch, results, meta_path):
     travel = sum(0.5 * (a[1] + b[1]) * (b[0] - a[0]) for a, b in zip(rows, rows[1:]) if b[0] <= t_stop + 1e-9)
     return (meta["base_type"], meta["layers"], meta["theta_deg"], mean0, top0, decel_top, decel_mean0,
             math.tan(theta) + decel_top / (G * math.cos(theta)), t_stop, t_stop * decel_top / mean0,
-            travel * decel_top / mean0 ** 2)
+            travel * decel_top / mean0 ** 2, fit_flowing_grains, fit_flowing_m_s)
 
 
 def main():
@@ -110,9 +119,9 @@ def main():
     rows.sort(key=lambda r: (int(r[0]), float(r[2]), int(r[1])))
     with open(os.path.join(results, "stopping_summary.csv"), "w") as f:
         f.write("base_type,layers,theta_deg,mean0_m_s,top0_m_s,decel_top_m_s2,decel_mean0_m_s2,friction_top,"
-                "t_stop_s,stop_time_ratio,travel_ratio\n")
+                "t_stop_s,stop_time_ratio,travel_ratio,fit_flowing_grains,fit_flowing_m_s\n")
         for r in rows:
-            f.write("%s,%s,%s,%.4f,%.4f,%.3f,%.3f,%.4f,%.3f,%.3f,%.3f\n" % r)
+            f.write("%s,%s,%s,%.4f,%.4f,%.3f,%.3f,%.4f,%.3f,%.3f,%.3f,%.2f,%.4f\n" % r)
             print("stopping base %s, %s grains, %s deg: stop time ratio %.2f, travel ratio %.2f, friction %.3f"
                   % (r[0], r[1], r[2], r[9], r[10], r[7]))
 
