@@ -17,9 +17,9 @@
 // friction alone (longer than the mean speed's rule: held with the
 // sessions' sands, which give no grain size, hence no rise); with the
 // friction's rise with the inertial number (rate_friction, fitted on the
-// inclined layers, within 5-11 % of the stopping layers' friction) it meets
+// inclined layers, within 10 % of the stopping layers' friction) it meets
 // the calibrated tubes' run-outs, but not yet their heights at a >= 2, the
-// coarser tubes or the other materials ("The friction at speed").
+// wider tubes (25 grains per radius) or the other materials ("The friction at speed").
 #include <gtest/gtest.h>
 
 #include <cmath>
