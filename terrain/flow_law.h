@@ -59,9 +59,11 @@ struct SoilFlowParameters {
   double grain_diameter_m = 0.0;
   double thin_layer_friction_angle_deg = 0.0;
   double thin_layer_decay_grains = 0.0;
-  // A layer's friction rises with its speed (Jop, Forterre and Pouliquen
-  // 2006, "A constitutive law for dense granular flows", Nature 441, (2),
-  // depth-averaged as Pouliquen and Forterre 2002 do):
+  // A layer's friction rises with its speed: Jop, Forterre and Pouliquen's
+  // (2006, "A constitutive law for dense granular flows", Nature 441, (2))
+  // mu(I) on the thin-layer stop friction above, with the layer's inertial
+  // number from its depth and mean speed as Pouliquen and Forterre (2002)
+  // read it:
   //   mu(h, I) = tan theta_stop(h) + (tan theta_r - tan theta_stop(h)) I / (I_0 + I),
   //   I = u d / (h sqrt(g h)),
   // u the layer's mean speed, h the depth it moves in, theta_r the rate

@@ -8,10 +8,12 @@ Usage: rate_friction.py RESULTS_DIR
   chute_thickness.csv (chute.py's outputs). Writes RESULTS_DIR/chute_rate.csv
   (quantity,value,unit) and prints each bin's fit.
 
-The law (Jop, Forterre and Pouliquen 2006, "A constitutive law for dense
-granular flows", Nature 441, (2), depth-averaged as Pouliquen and Forterre
-2002 do, "Friction law for dense granular flows: application to the motion of
-a mass down a rough inclined plane", J. Fluid Mech. 453):
+The law: Jop, Forterre and Pouliquen's mu(I) (2006, "A constitutive law for
+dense granular flows", Nature 441, (2)) on the thin-layer stop friction
+(Pouliquen 1999), with the layer's inertial number from its depth and mean
+speed as Pouliquen and Forterre read it (2002, "Friction law for dense
+granular flows: application to the motion of a mass down a rough inclined
+plane", J. Fluid Mech. 453):
   mu(h, I) = mu_stop(h) + (mu_2 - mu_stop(h)) I / (I_0 + I),
   I = u d / (h sqrt(g h)),
 with u the layer's mean speed, h its thickness (layers x d), d the grain size
