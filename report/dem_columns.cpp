@@ -22,6 +22,16 @@ double quantity_in(const std::map<std::string, double>& m, const fs::path& file,
   return it->second;
 }
 
+// The calibration's grain size and its floor as a flowing layer feels it
+// (its stop angle and the rise of its friction with the inertial number).
+struct GrainsAndFloor {
+  double grain_m = 0.0, floor_deg = 0.0, floor_rate_i0 = 0.0;
+};
+GrainsAndFloor grains_and_floor(const std::map<std::string, double>& m, const fs::path& file) {
+  return {quantity_in(m, file, "particle_diameter_m"), quantity_in(m, file, "floor_flowing_friction_angle_deg"),
+          quantity_in(m, file, "floor_rate_friction_i0")};
+}
+
 }  // namespace
 
 std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::string& results) {
@@ -29,21 +39,19 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::stri
   const fs::path material = columns_material(dem_dir, results);
   const std::map<std::string, double> m = read_csv_quantities(material);
   auto quantity = [&](const std::string& name) { return quantity_in(m, material, name); };
-  const double floor_deg = quantity("floor_flowing_friction_angle_deg");
+  const GrainsAndFloor calibrated = grains_and_floor(m, material);
   // The walls only where a slot was run (a side study's calibration has none).
   const bool walls = m.count("slot_wall_flowing_friction_angle_deg") > 0;
   const double wall_deg = walls ? quantity("slot_wall_flowing_friction_angle_deg") : 0.0;
-  const double grain_m = quantity("particle_diameter_m");
-  const double floor_rate_i0 = quantity("floor_rate_friction_i0");
   const fs::path summary = dir / "summary.csv";
   const CsvNumbers csv = read_csv_numbers(summary);
   std::vector<DemColumn> out;
   for (const auto& row : csv.rows) {
     DemColumn c;
-    c.floor_friction_deg = floor_deg;
-    c.floor_rate_friction_i0 = floor_rate_i0;
+    c.floor_friction_deg = calibrated.floor_deg;
+    c.floor_rate_friction_i0 = calibrated.floor_rate_i0;
     c.slot_wall_friction_deg = wall_deg;
-    c.grain_diameter_over_r0 = grain_m / row[csv.column("r0_m", summary)];
+    c.grain_diameter_over_r0 = calibrated.grain_m / row[csv.column("r0_m", summary)];
     c.slot = row[csv.column("slot", summary)] != 0.0;
     if (c.slot && !walls) quantity("slot_wall_flowing_friction_angle_deg");  // throws, naming the file
     c.aspect = row[csv.column("aspect_ratio", summary)];
@@ -220,9 +228,7 @@ double slope_deg(double tan_beta) { return rad_to_deg(std::atan(tan_beta)); }
 std::vector<DemStoppingLayer> read_dem_stopping_layers(const fs::path& dem_dir) {
   const fs::path material = dem_dir / "calibration" / "material.csv";
   const std::map<std::string, double> m = read_csv_quantities(material);
-  const double grain_m = quantity_in(m, material, "particle_diameter_m");
-  const double floor_deg = quantity_in(m, material, "floor_flowing_friction_angle_deg");
-  const double floor_rate_i0 = quantity_in(m, material, "floor_rate_friction_i0");
+  const GrainsAndFloor calibrated = grains_and_floor(m, material);
   const fs::path path = dem_dir / "calibration" / "results" / "stopping_summary.csv";
   const CsvNumbers csv = read_csv_numbers(path);
   std::vector<DemStoppingLayer> out;
@@ -235,11 +241,11 @@ std::vector<DemStoppingLayer> read_dem_stopping_layers(const fs::path& dem_dir) 
     d.friction_top = row[csv.column("friction_top", path)];
     d.stop_time_ratio = row[csv.column("stop_time_ratio", path)];
     d.travel_ratio = row[csv.column("travel_ratio", path)];
-    d.flowing_m = row[csv.column("fit_flowing_grains", path)] * grain_m;
+    d.flowing_m = row[csv.column("fit_flowing_grains", path)] * calibrated.grain_m;
     d.flowing_m_s = row[csv.column("fit_flowing_m_s", path)];
-    d.grain_m = grain_m;
-    d.floor_friction_deg = floor_deg;
-    d.floor_rate_friction_i0 = floor_rate_i0;
+    d.grain_m = calibrated.grain_m;
+    d.floor_friction_deg = calibrated.floor_deg;
+    d.floor_rate_friction_i0 = calibrated.floor_rate_i0;
     out.push_back(d);
   }
   if (out.empty()) throw std::runtime_error(path.string() + ": no runs");

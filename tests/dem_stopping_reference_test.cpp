@@ -102,12 +102,13 @@ TEST(DemStoppingLayer, TheLayerLaysItsBaseDownAsTheDemsDoes) {
 TEST(DemStoppingLayer, TheFrictionAtSpeedIsTheStoppingLayersFriction) {
   const std::vector<DemStoppingLayer> dem = read_dem_stopping_layers(repository_dem_dir());
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
+  // The law needs a flow, and the flow a grid (any: the law reads none of it).
+  terrain::GridSpec spec;
+  spec.nx = 16;
+  spec.ny = 1;
+  spec.cell_size_m = 0.1;
+  const terrain::GranularGrid grid(spec, sand, 0.002, 100000);
   for (const DemStoppingLayer& d : dem) {
-    terrain::GridSpec spec;
-    spec.nx = 16;
-    spec.ny = 1;
-    spec.cell_size_m = 0.1;
-    const terrain::GranularGrid grid(spec, sand, 0.002, 100000);
     terrain::MomentumFlowParameters p;
     p.floor_friction_deg = d.floor_friction_deg;
     p.floor_rate_friction_i0 = d.floor_rate_friction_i0;

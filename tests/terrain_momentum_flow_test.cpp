@@ -327,14 +327,19 @@ SoilFlowParameters thin_layer_sand() {
   return soil;
 }
 
-// How far a Coulomb block sent at v0 slides at the stop angle of a layer
-// h_m deep by Pouliquen's (1999) thin-layer law, evaluated apart from the
-// flow: v0^2 / (2 g tan theta_stop(h)).
-double pouliquen_block_m(const SoilFlowParameters& soil, double v0_m_s, double h_m) {
+// Pouliquen's (1999) thin-layer law, evaluated apart from the flow: tan
+// theta_stop of a layer h_m deep.
+double pouliquen_stop_tan(const SoilFlowParameters& soil, double h_m) {
   const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
   const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
   const double decay_m = soil.thin_layer_decay_grains * soil.grain_diameter_m;
-  return v0_m_s * v0_m_s / (2.0 * kGravity_m_s2 * (tan1 + (tan2 - tan1) * std::exp(-h_m / decay_m)));
+  return tan1 + (tan2 - tan1) * std::exp(-h_m / decay_m);
+}
+
+// How far a Coulomb block sent at v0 slides at that stop angle:
+// v0^2 / (2 g tan theta_stop(h)).
+double pouliquen_block_m(const SoilFlowParameters& soil, double v0_m_s, double h_m) {
+  return v0_m_s * v0_m_s / (2.0 * kGravity_m_s2 * pouliquen_stop_tan(soil, h_m));
 }
 
 TEST(MomentumFlow, ASlabOnADeepBedSlidesAtTheStopAngleOfTheDepthItMovesIn) {
@@ -384,9 +389,7 @@ TEST(MomentumFlow, ASlabsFrictionRisesWithItsInertialNumber) {
     }
     return x;
   };
-  const double tan1 = std::tan(deg_to_rad(soil.flowing_friction_angle_deg));
-  const double tan2 = std::tan(deg_to_rad(soil.thin_layer_friction_angle_deg));
-  const double mu_stop = tan1 + (tan2 - tan1) * std::exp(-h / (soil.thin_layer_decay_grains * soil.grain_diameter_m));
+  const double mu_stop = pouliquen_stop_tan(soil, h);
   MomentumFlowParameters bed, floor;
   bed.layer_depth = MomentumFlowParameters::LayerDepth::kFlowing;
   bed.rate_friction = floor.rate_friction = true;

@@ -20,10 +20,9 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from dem_io import read_material  # noqa: E402
+from dem_io import G, read_material  # noqa: E402
 from mckyes import mckyes  # noqa: E402
 
-G = 9.80665
 W = 0.10
 
 

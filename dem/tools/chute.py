@@ -24,9 +24,8 @@ import os
 import re
 import sys
 
-from dem_io import line_fit, read_quantities
+from dem_io import G, line_fit, read_quantities
 
-G = 9.80665
 STOPPED_M_S = 0.01       # a layer slower than this at the end has stopped
 FIT_SPEEDS_M_S = (0.05, 0.5)
 WINDOW_S = 0.1           # du/dt over this span

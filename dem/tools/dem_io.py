@@ -1,6 +1,7 @@
 """Shared by the post-processing scripts: reading LIGGGHTS text dumps and
-quantity CSVs, a grain's mass, a layer's depth, a least-squares line and a
-tool's command line (Python 3, stdlib only)."""
+quantity CSVs, a grain's mass, a layer's depth, a least-squares line, the
+inclined layers' thickest open run and a tool's command line (Python 3,
+stdlib only)."""
 import glob
 import math
 import os
@@ -9,6 +10,7 @@ import sys
 RHO_GRAIN = 2650.0  # dem/material.in, particle density (kg/m^3)
 D50_M = 0.008       # dem/material.in: radii 3.6 / 4.0 / 4.4 mm
 DT_STEP_S = 7.5e-5  # dem/material.in: the timestep (the decks dump every so many steps from step 0)
+G = 9.80665         # standard gravity (m/s^2), as the decks and skidsim take it
 
 
 def grain_mass(r):
@@ -86,3 +88,11 @@ def tool_args(tool, pattern):
     if not metas:
         raise SystemExit("%s: no %s in %s" % (tool, pattern, scratch))
     return scratch, results, metas
+
+
+def thickest_open_run(chute_rows, base_type):
+    """Of the inclined layers (chute_summary.csv rows as dicts of text), the
+    run on `base_type` ("1" the grains, "3" the columns' floor) without side
+    walls and with the most layers: the friction a thick flow reaches there."""
+    runs = [r for r in chute_rows if r["base_type"] == base_type and float(r["side_wall_gap_m"]) == 0.0]
+    return max(runs, key=lambda r: int(r["layers"]))

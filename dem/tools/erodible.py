@@ -29,9 +29,8 @@ import os
 import re
 import sys
 
-from dem_io import line_fit, read_quantities
+from dem_io import G, line_fit, read_quantities
 
-G = 9.80665
 STOPPED_M_S = 0.01
 FIT_SPEEDS_M_S = (0.05, 0.3)
 

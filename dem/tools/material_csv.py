@@ -31,6 +31,8 @@ import os
 import re
 import sys
 
+from dem_io import thickest_open_run
+
 
 def kv(path):
     out = {}
@@ -49,8 +51,7 @@ def flow_rows(d):
     chute = [dict(zip(cols, r)) for r in chute[1:] if r and r[0]]
 
     def thickest(base):
-        runs = [r for r in chute if r["base_type"] == base and float(r["side_wall_gap_m"]) == 0.0]
-        r = max(runs, key=lambda r: int(r["layers"]))
+        r = thickest_open_run(chute, base)
         return float(r["stop_angle_deg"]), int(r["layers"])
 
     grains_deg, grains_n = thickest("1")
@@ -89,12 +90,13 @@ def flow_rows(d):
     rate_path = os.path.join(d, "chute_rate.csv")
     if os.path.exists(rate_path):
         rate = kv(rate_path)
-        source = "calibration/chute.in (the layers as they slow, against the inertial number; dem/tools/rate_friction.py)"
+        fit = "against the inertial number; dem/tools/rate_friction.py"
+        source = "calibration/chute.in (the layers as they slow, %s)" % fit
         rows["rate_friction_angle_deg"] = (float(rate["rate_friction_angle_deg"]), "deg", source)
         rows["rate_friction_i0"] = (float(rate["rate_friction_i0"]), "-", source)
         if "floor_rate_friction_i0" in rate:
             rows["floor_rate_friction_i0"] = (float(rate["floor_rate_friction_i0"]), "-",
-                                              source.replace("the layers", "the layers on the columns' floor"))
+                                              "calibration/chute.in (the layers on the columns' floor as they slow, %s)" % fit)
     return rows
 
 

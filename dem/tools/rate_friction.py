@@ -35,10 +35,8 @@ import math
 import os
 import sys
 
-from dem_io import read_quantities
+from dem_io import D50_M, G, read_quantities, thickest_open_run
 
-G = 9.80665
-D_M = 0.008          # dem/material.in: the grains' mean diameter
 MAX_WEIGHT = 50      # a bin's weight: its samples, at most this many
 
 
@@ -55,8 +53,8 @@ def bins(path, base):
 
 
 def inertial(layers, u):
-    h = layers * D_M
-    return u * D_M / (h * math.sqrt(G * h))
+    h = layers * D50_M
+    return u * D50_M / (h * math.sqrt(G * h))
 
 
 def law(mu_stop, mu_2, i0, i):
@@ -100,17 +98,16 @@ def main():
         return sum(w * (law(mu_stop(n), p[0], p[1], inertial(n, u)) - m) ** 2 for n, u, m, w in grains)
 
     mu_2, i0 = fit(cost, [mu_2s + 0.1, 0.1], [0.05, 0.05], [mu_2s, 1e-4])
-    floor_rows = [r for r in csv.DictReader(open(os.path.join(res, "chute_summary.csv")))
-                  if r["base_type"] == "3" and float(r["side_wall_gap_m"]) == 0.0]
+    summary = list(csv.DictReader(open(os.path.join(res, "chute_summary.csv"))))
     floor = bins(os.path.join(res, "chute_friction.csv"), 3)
     rows = [("rate_friction_angle_deg", "%.2f" % math.degrees(math.atan(mu_2)), "deg"),
             ("rate_friction_i0", "%.4f" % i0, "-")]
     print("  grains: mu_2 %.4f (%.2f deg), I_0 %.4f" % (mu_2, math.degrees(math.atan(mu_2)), i0))
     for n, u, m, _ in grains:
         print("    %2d grains %5.2f m/s: DEM %.3f, law %.3f" % (n, u, m, law(mu_stop(n), mu_2, i0, inertial(n, u))))
-    if floor and floor_rows:
+    if floor:
         # The floor's stop friction: as material_csv.py takes it, the thickest open run's.
-        mu_f = float(max(floor_rows, key=lambda r: int(r["layers"]))["mu_s"])
+        mu_f = float(thickest_open_run(summary, "3")["mu_s"])
 
         def floor_cost(p):
             return sum(w * (law(mu_f, mu_2, p[0], inertial(n, u)) - m) ** 2 for n, u, m, w in floor)

@@ -47,9 +47,8 @@ friction takes and lays its base down with its mean speed, 1 and 1/3.
 import math
 import os
 
-from dem_io import D50_M, DT_STEP_S, depth_98, line_fit, read_dump_frames, read_quantities, tool_args
+from dem_io import D50_M, DT_STEP_S, G, depth_98, line_fit, read_dump_frames, read_quantities, tool_args
 
-G = 9.80665
 REST_SHARE = 0.05     # a layer slower than this share of the top's first speed is at rest
 TOP_FIT = (0.2, 0.9)  # the top's deceleration is fitted between these shares of top0
 MEAN_FIT_S = 0.04     # the mean's first deceleration over this span
@@ -93,15 +92,16 @@ def post_run(scratch, results, meta_path):
         for t, mean, top, flowing, rest, depth in rows:
             f.write("%.4f,%.4f,%.4f,%.4f,%d,%.2f\n" % (t, mean, top, flowing, rest, depth))
     mean0 = rows[0][1]
-    fit = [(t, top) for t, _, top, _, _, _ in rows if TOP_FIT[0] * top0 <= top <= TOP_FIT[1] * top0]
+    # The frames in which the top slows through TOP_FIT of its first speed.
+    window = [r for r in rows if TOP_FIT[0] * top0 <= r[2] <= TOP_FIT[1] * top0]
+    fit = [(t, top) for t, _, top, _, _, _ in window]
     if len(fit) < 3:
         raise SystemExit("stopping.py: %s: the top never slowed through %g-%g of its speed" % ((tag,) + TOP_FIT))
     decel_top = -line_fit(fit)[0]
     # Over the same frames: the flowing layer's depth (above the layers at
     # rest, in grains) and its grains' mean speed, where its friction acts.
-    window = [(depth - rest, flowing) for t, _, top, flowing, rest, depth in rows if TOP_FIT[0] * top0 <= top <= TOP_FIT[1] * top0]
-    fit_flowing_grains = sum(h for h, _ in window) / len(window)
-    fit_flowing_m_s = sum(u for _, u in window) / len(window)
+    fit_flowing_grains = sum(depth - rest for _, _, _, _, rest, depth in window) / len(window)
+    fit_flowing_m_s = sum(flowing for _, _, _, flowing, _, _ in window) / len(window)
     decel_mean0 = -line_fit([(t, m) for t, m, _, _, _, _ in rows if t <= MEAN_FIT_S + 1e-9])[0]
     stops = [t for t, _, top, _, _, _ in rows if top < REST_SHARE * top0]
     if not stops:
