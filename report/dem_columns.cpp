@@ -55,18 +55,22 @@ std::vector<DemColumn> read_dem_columns(const fs::path& dem_dir, const std::stri
     c.slot = row[csv.column("slot", summary)] != 0.0;
     if (c.slot && !walls) quantity("slot_wall_flowing_friction_angle_deg");  // throws, naming the file
     c.aspect = row[csv.column("aspect_ratio", summary)];
+    c.released_aspect = row[csv.column("released_aspect", summary)];
+    if (!(c.released_aspect > 0.0))
+      throw std::runtime_error(summary.string() + ": row " + std::to_string(out.size() + 2) + ": released_aspect " +
+                               fmt("%g", c.released_aspect) + " is not > 0");
     c.drop_over_r0 = row[csv.column("drop_m", summary)] / row[csv.column("r0_m", summary)];
     c.runout = row[csv.column("runout_r99_rel", summary)];
     c.edge_runout = row[csv.column("runout_edge_rel", summary)];
     c.height = row[csv.column("final_height_rel", summary)];
     c.t_stop_scaled = row[csv.column("t_stop_over_sqrt_H0_g", summary)];
-    const double r0 = row[csv.column("r0_m", summary)], h0 = row[csv.column("H0_m", summary)];
+    const double r0 = row[csv.column("r0_m", summary)], h = c.released_aspect * r0;
     const std::string geometry = c.slot ? "slot" : c.drop_over_r0 > 0.0 ? "drop" : "tube";
     const fs::path front = dir / ("front_" + geometry + "_a" + fmt("%g", c.aspect) + ".csv");
     const CsvNumbers f = read_csv_numbers(front);
     const std::size_t t = f.column("t_s", front), r = f.column("front_r99_m", front);
     for (const auto& fr : f.rows)
-      c.front.emplace_back(fr[t] / std::sqrt(h0 / kGravity_m_s2), (fr[r] - f.rows.front()[r]) / r0);
+      c.front.emplace_back(fr[t] / std::sqrt(h / kGravity_m_s2), (fr[r] - f.rows.front()[r]) / r0);
     // The deposit's bins (centres r_m, equal widths) hold their thickness
     // over a ring 2 pi r w wide (a strip in the slot).
     const fs::path deposit = dir / ("deposit_" + geometry + "_a" + fmt("%g", c.aspect) + ".csv");
@@ -116,14 +120,18 @@ terrain::SoilFlowParameters calibrated_flow(const fs::path& material_csv, terrai
 }
 
 std::string column_name(const DemColumn& c) {
-  if (c.drop_over_r0 > 0.0) return "dropped " + fmt("%g", c.drop_over_r0) + " r0, a = " + fmt("%g", c.aspect);
-  return std::string(c.slot ? "slot" : "tube") + ", a = " + fmt("%g", c.aspect);
+  // A column that stood short of the deck's H0 when released (by more than
+  // a grain) is named with its released aspect ratio too.
+  const std::string released =
+      std::abs(c.released_aspect - c.aspect) > c.grain_diameter_over_r0 ? " (released at " + fmt("%.2f", c.released_aspect) + ")" : "";
+  if (c.drop_over_r0 > 0.0) return "dropped " + fmt("%g", c.drop_over_r0) + " r0, a = " + fmt("%g", c.aspect) + released;
+  return std::string(c.slot ? "slot" : "tube") + ", a = " + fmt("%g", c.aspect) + released;
 }
 
 terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool momentum, bool raining) {
   terrain::CollapseCase c;
   c.slot = dem.slot;
-  c.aspect = dem.aspect;
+  c.aspect = dem.released_aspect;
   c.cell_m = cell_m;
   c.momentum = momentum;
   c.momentum_params.raining = raining;
@@ -137,7 +145,7 @@ terrain::CollapseCase dem_column_case(const DemColumn& dem, double cell_m, bool 
 
 terrain::CollapseCase wide_tube_case(const DemColumn& dem, double cell_m) {
   terrain::CollapseCase c = dem_column_case(dem, cell_m, true, true);
-  c.max_time_s = 60.0 * std::sqrt(dem.aspect * c.r0_m / kGravity_m_s2);
+  c.max_time_s = 60.0 * std::sqrt(dem.released_aspect * c.r0_m / kGravity_m_s2);
   return c;
 }
 

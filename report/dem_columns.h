@@ -51,8 +51,13 @@ struct DemColumn {
   double grain_diameter_over_r0 = 0.0;
   // A column let go this far (over r0) above the floor (0: standing on it).
   double drop_over_r0 = 0.0;
-  double aspect = 0.0, runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
-  std::vector<std::pair<double, double>> front;  // t / sqrt(H0 / g), (r99 - r99(0)) / r0
+  // The deck's aspect ratio (a = H0 / r0, in the files' names) and the
+  // column's as released (its top grains' centres over r0,
+  // dem/tools/collapse.py): a model collapses the released column. The
+  // height H in the time scale sqrt(H / g) is the released one.
+  double aspect = 0.0, released_aspect = 0.0;
+  double runout = 0.0, edge_runout = 0.0, height = 0.0, t_stop_scaled = 0.0;
+  std::vector<std::pair<double, double>> front;  // t / sqrt(H / g), (r99 - r99(0)) / r0
   MassProfile deposit;  // the final deposit's
 };
 

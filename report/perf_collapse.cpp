@@ -141,7 +141,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   std::string rows;
   for (const DemColumn& d : dem) {
     if (!standing_tube(d)) continue;
-    runout_dem.points.emplace_back(d.aspect, d.runout), height_dem.points.emplace_back(d.aspect, d.height);
+    runout_dem.points.emplace_back(d.released_aspect, d.runout), height_dem.points.emplace_back(d.released_aspect, d.height);
   }
   for (const DemColumn& d : dem)
     if (standing_tube(d) && d.aspect == 2.0) fronts.push_back({"DEM, tube a = 2", d.front});
@@ -161,7 +161,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
         worst = std::max(worst, column_error(d, run));
         wall += run.wall_s, simulated += run.steps * c.step_dt_s;
         books = books && run.books_exact;
-        if (standing_tube(d)) runout_curve.points.emplace_back(d.aspect, run.runout_over_r0), height.points.emplace_back(d.aspect, run.final_height_over_r0);
+        if (standing_tube(d))
+          runout_curve.points.emplace_back(d.released_aspect, run.runout_over_r0), height.points.emplace_back(d.released_aspect, run.final_height_over_r0);
         const auto front = scaled_front(run);
         if (standing_tube(d) && d.aspect == 2.0) {
           Curve f{label, {}};

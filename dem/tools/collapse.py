@@ -29,17 +29,23 @@ cells can be measured the same way:
 
 The run-out is (front - front at release) / r0 and the final height
 H_inf / r0, the dimensionless forms of Lajeunesse et al. (2004) and Lube et
-al. (2004); both are taken against the column as released, so the grains'
-size (their centres stand half a grain inside the tube, their tops half a
-grain above H0) drops out: the run-out starts at 0 and the height at a.
+al. (2004). Both are taken against the column as released: the run-out from
+the front at release (the grains' centres stand half a grain inside the
+tube), the heights as the top grains' centres (the centre height less half
+a grain, at release and at the end alike: the surface's roughness is the
+same grains'). The column's released height H (its top grains' centres at
+release) gives the released aspect ratio H / r0, which a model compares at,
+the bulk density (the mass over the column's volume up to H) and the time
+scale sqrt(H / g) (t_stop_over_sqrt_H0_g). A column that settled more than a
+grain short of the deck's H0 is reported on stderr: it is still a column,
+of its released aspect ratio.
 """
 import glob
 import math
 import os
+import sys
 
-from dem_io import D50_M, DT_STEP_S, grain_mass, read_dump, read_quantities, tool_args
-
-G_M_S2 = 9.80665
+from dem_io import D50_M, DT_STEP_S, G, grain_mass, read_dump, read_quantities, tool_args
 
 
 def distance(atom, slot):
@@ -107,12 +113,18 @@ def post_run(scratch, results, meta_path):
     width = float(meta["slot_width_m"])
     drop = float(meta.get("drop_m", 0.0))
     mass = float(meta["mass_kg"])
-    column_volume = r0 * width * h0 if slot else math.pi * r0 ** 2 * h0
-    rho_bulk = mass / column_volume
     frames = sorted(glob.glob(os.path.join(scratch, "collapse_%s_a%s.*.dump" % (geom, aspect))),
                     key=lambda p: int(p.rsplit(".", 2)[1]))
     if not frames:
         raise SystemExit("collapse.py: no dumps for %s a %s in %s" % (geom, aspect, scratch))
+    # the column as released (the first frame): its top grains' centres, a dropped column's above its shelf
+    released_h = centre_height(read_dump(frames[0]), slot) - drop - 0.5 * D50_M
+    if released_h < h0 - D50_M:
+        sys.stderr.write("collapse.py: %s a %s: the column stands %.4f m at release, %.4f m short of H0; "
+                         "it is compared at its released aspect ratio %.3f (dem/collapse/column.in fills it)\n"
+                         % (geom, aspect, released_h, h0 - released_h, released_h / r0))
+    column_volume = r0 * width * released_h if slot else math.pi * r0 ** 2 * released_h
+    rho_bulk = mass / column_volume
     series = []
     for path in frames:
         step = int(path.rsplit(".", 2)[1])
@@ -136,16 +148,15 @@ def post_run(scratch, results, meta_path):
     t_stop = next((series[i][0] * DT_STEP_S for i in range(i_peak, len(series)) if series[i][4] < 1e-3 * peak),
                   float("nan"))
     first, final = series[0], series[-1]
-    # a dropped column's top at release stands drop above a standing one's
-    top_at_release = first[3] - drop
     return {
         "slot": 1 if slot else 0, "drop_m": drop, "aspect_ratio": float(aspect), "r0_m": r0, "H0_m": h0,
+        "released_height_m": released_h, "released_aspect": released_h / r0,
         "slot_width_m": width if slot else 0.0,
         "grains": int(float(meta["grains"])), "mass_kg": mass, "bulk_density_kg_m3": rho_bulk,
         "runout_r99_m": final[1], "runout_edge_m": final[2], "final_height_m": final[3],
         "runout_r99_rel": (final[1] - first[1]) / r0, "runout_edge_rel": (final[2] - first[2]) / r0,
-        "final_height_rel": final[3] / top_at_release * h0 / r0, "t_stop_s": t_stop,
-        "t_stop_over_sqrt_H0_g": t_stop / math.sqrt(h0 / G_M_S2),
+        "final_height_rel": (final[3] - 0.5 * D50_M) / r0, "t_stop_s": t_stop,
+        "t_stop_over_sqrt_H0_g": t_stop / math.sqrt(released_h / G),
         "end_kinetic_over_peak": final[4] / peak,
     }
 
