@@ -7,8 +7,8 @@
 // flow that owns its cells" and "A layer coming to rest".
 //
 // Two depositions (MomentumFlowParameters::Deposition). The mean speed's
-// rule (kMeanSpeed), the first written, meets the collapses' run-outs
-// (held below as it was measured), but lays a slowing layer down at twice
+// rule (kMeanSpeed), the first written, comes within a fifth of the
+// collapses' run-outs (held below as it was measured), but lays a slowing layer down at twice
 // the rate of the interface's and stops a layer's mass in half the DEM's
 // travel (dem_stopping_reference_test.cpp): its agreement rests on that
 // factor making up for a friction that does not rise with speed as the
@@ -18,8 +18,9 @@
 // sessions' sands, which give no grain size, hence no rise); with the
 // friction's rise with the inertial number (rate_friction, fitted on the
 // inclined layers, within 10 % of the stopping layers' friction) it meets
-// the calibrated tubes' run-outs, but not yet their heights at a >= 2, the
-// wider tubes (25 grains per radius) or the other materials ("The friction at speed").
+// the tubes' run-outs at 25 grains per radius and comes within a fifth at
+// 12.5, its heights within a fifth (a = 4 lowest), but not yet the other
+// materials ("The friction at speed").
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -82,13 +83,13 @@ TEST(FlowOwningItsCells, TheSessionsSandsMeetThePublishedLaw) {
 }
 
 // dem_sand against its DEM's standing tubes (a = 0.5 to 4 at 12.5 grains per
-// radius, 0.5 to 2 at 25). The mean speed's rule: r99 within 15 % at 10
-// and 5 cm (the shipped model: 3-32 % short); but the heights up to 29 %
-// low at a >= 2 (held at 30 %) and the edges 6-25 % long (the shipped
-// model's within 5 % on the 12.5-grain tubes). The interface with the
-// friction's rise: r99 -13 to -1 % at 12.5 grains per radius (held at
-// 15 %), +7 to +19 % at 25 (held at 25 %); heights +9 to -28 % (held at
-// 30 %).
+// radius, 0.5 to 2 at 25), each collapsed as it was released. The mean
+// speed's rule: r99 -5 to -20 % at 12.5 grains per radius and -9 to +7 %
+// at 25, at 10 and 5 cm (the shipped model: 19-34 % short; held at 22 %);
+// heights +2 to -19 % (held at 20 %). The interface with the friction's
+// rise: r99 -7 to -19 % at 12.5 grains per radius (held at 20 %), -1 to
+// +6 % at 25 (held at 10 %); heights +5 to -18 %, a = 4 and the wide a = 2
+// lowest (held at 20 %).
 TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   for (const char* folder : {"results", kWideTubeResults}) {
@@ -110,22 +111,23 @@ TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
         const std::string where = std::string(folder) + ", " + column_name(d) + ", " + std::to_string(cell);
         EXPECT_TRUE(run.books_exact && run.flow_at_rest) << where;
         EXPECT_TRUE(interface.books_exact && interface.flow_at_rest) << where;
-        EXPECT_LT(std::abs(run.runout_over_r0 / d.runout - 1.0), 0.15) << where;
-        EXPECT_LT(std::abs(run.final_height_over_r0 / d.height - 1.0), 0.30) << where;
+        EXPECT_LT(std::abs(run.runout_over_r0 / d.runout - 1.0), 0.22) << where;
+        EXPECT_LT(std::abs(run.final_height_over_r0 / d.height - 1.0), 0.20) << where;
         const bool coarse = d.grain_diameter_over_r0 > 0.06;  // 12.5 grains per radius
-        EXPECT_LT(std::abs(interface.runout_over_r0 / d.runout - 1.0), coarse ? 0.15 : 0.25) << where;
-        EXPECT_LT(std::abs(interface.final_height_over_r0 / d.height - 1.0), 0.30) << where;
+        EXPECT_LT(std::abs(interface.runout_over_r0 / d.runout - 1.0), coarse ? 0.20 : 0.10) << where;
+        EXPECT_LT(std::abs(interface.final_height_over_r0 / d.height - 1.0), 0.20) << where;
       }
     }
   }
 }
 
-// The landing and the channel: with the mean speed's rule the dropped
-// column stops short (r99 66-68 % under the DEM's, the shipped model's 40
-// and 60 %; the edge 17-20 % short, the shipped model's +19 and -2 %) and
-// the slot runs 21-26 % long (the shipped model 7-9 %); the interface with
-// the rise: the dropped column's edge +7 / +4 %, the slot's r99 +44 / +41 %
-// (10 / 5 cm). Held here: exact books and rest.
+// The landing and the channel, each collapsed as released: with the mean
+// speed's rule the dropped column stops short (edge 1.40 / 1.35 r0 for the
+// DEM's 1.68, the shipped model's 2.00 / 1.65) and the slot's r99 comes
+// within 8 % (-6 / -8 %); the interface with the rise spreads the dropped
+// column to +7 / +4 % on the edge and runs the slot +8 / +6 % on r99 (10 /
+// 5 cm; the shipped model's -19 / -18 %), its height -11 / -10 %. Held
+// here: exact books and rest.
 TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   for (const DemColumn& d : read_dem_columns(repository_dem_dir())) {
@@ -147,12 +149,12 @@ TEST(FlowOwningItsCells, TheDroppedColumnAndTheSlotKeepExactBooks) {
 
 // The friction study's materials: the owning flow's run-outs stand in the
 // DEM's order (the smoother longer, the rougher shorter) but apart
-// faintly: r99 +9-10 % and -4 % at a = 1 where the DEM's moves +61 and
-// -22 % (the interface with the rise, each material's own: +8-9 % and
-// -4 %). Its deposition keeps the same share of a slowing layer's
+// faintly: r99 +10 % and -4 % at a = 1 where the DEM's moves +65 and
+// -26 % (the interface with the rise, each material's own: +10 % and
+// -3 %). Its deposition keeps the same share of a slowing layer's
 // thickness on every material, where the DEM's profiles
-// (profile_summary.csv) show the smoother grains' base sliding (28-43 % of
-// the top's speed behind the front) and the rougher's at rest (3-5 %).
+// (profile_summary.csv) show the smoother grains' base sliding (28-46 % of
+// the top's speed behind the front) and the rougher's at rest (3-6 %).
 TEST(FlowOwningItsCells, FollowsTheMaterialTheDemsWayButFaintly) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   // Smoother, calibrated, rougher: each material's soil and DEM columns, read once.

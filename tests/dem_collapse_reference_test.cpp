@@ -15,22 +15,27 @@
 // (DemErodibleBed, last), with the bed under it where that bed erodes (what
 // the collapse laid down, a bed past its start angle).
 //
-// The bounds hold what is reached (docs/fast_flows.md): the tubes' deposits
-// round and their edges within 12 % and half a cell (the edge is measured in
-// whole cells), their r99 run-outs 13-32 % short (the DEM's deposit thins
+// Each DEM column is collapsed as it was released (its released aspect
+// ratio, dem/tools/collapse.py): the deck once left its tall columns short
+// of H0 (docs/fast_flows.md, "The columns as released").
+//
+// The bounds hold what is reached against the columns as released
+// (docs/fast_flows.md): the tubes' deposits round, their edges within 17 %
+// and half a cell (-16 % at most, a = 2 at 5 cm; the edge is measured in
+// whole cells), their r99 run-outs 19-34 % short (the DEM's deposit thins
 // out in a toe the grid's thin layers do not hold), their heights within
-// 12 % (+10 % at most, a = 1 at 5 cm), the slot within 10 % on both, the
+// 15 % (+14 % at most, a = 4 at 5 cm: the tall columns stand tall), the
+// slot's r99 18-19 % short (tested at 22 %) and its height within 10 %, the
 // front's arrival within 20 % where the column falls; every deposit's mass
 // where the DEM's lies within 0.13 of its share at every distance from the
-// axis (mass_gap: 0.02-0.13, the DEM's toe included; a = 4 worst); the
-// landings: the dropped column's edge within 25 % and its height within
-// 50 %, the granular jet's edge and centre within 30 %, a bucket's load
-// dumped on the sessions' sands within 15 % of the DEM's edge. The issue's
-// aim of 15 % is reached on the tubes', the slot's and the sands' dump's
-// edges, on every standing column's height and on the slot's run-out; not
-// on the tubes' r99 (a = 1 and 2 are, at 25 grains per radius), the jet's
-// edge, the landings' heights or the dropped column's edge at 10 cm. A
-// change that loses ground fails; tighten them as the model improves.
+// axis (mass_gap: 0.03-0.07); the landings: the dropped column's edge
+// within 25 % and its height within 50 %, the granular jet's edge and
+// centre within 30 %, a bucket's load dumped on the sessions' sands within
+// 15 % of the DEM's edge. The aim of 15 % is reached on the tubes'
+// heights and on the sands' dump's edge; not on the tubes' and the slot's
+// r99, the jet's edge or the landings' heights (the owning flow, a study,
+// comes closer on run-out: collapse_owned_cells_test.cpp). A change that
+// loses ground fails; tighten them as the model improves.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,6 +123,46 @@ TEST(DemCollapse, AMissingDepositIsNamed) {
   fs::remove_all(copy);
 }
 
+// A column without a released aspect ratio (a summary from before
+// collapse.py wrote one, or a row that lost it) is refused, naming the file
+// and the row: the model would collapse a column of no height.
+TEST(DemCollapse, AColumnWithoutItsReleasedAspectIsNamed) {
+  const fs::path dem = repository_dem_dir();
+  const fs::path copy = fs::temp_directory_path() / "skidsim_dem_columns_released_aspect";
+  fs::remove_all(copy);
+  fs::create_directories(copy / "collapse");
+  fs::create_directories(copy / "calibration");
+  fs::copy(dem / "collapse/results", copy / "collapse/results");
+  fs::copy_file(dem / "calibration/material.csv", copy / "calibration/material.csv");
+  const fs::path summary = copy / "collapse/results/summary.csv";
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(summary);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_GE(lines.size(), 3u);
+  // The released_aspect column of the second column's row set to 0.
+  std::size_t column = 0;
+  for (std::size_t at = 0, next; (next = lines[0].find(',', at)) != std::string::npos && lines[0].substr(at, next - at) != "released_aspect";
+       at = next + 1)
+    ++column;
+  std::string& row = lines[2];
+  std::size_t begin = 0;
+  for (std::size_t k = 0; k < column; ++k) begin = row.find(',', begin) + 1;
+  row.replace(begin, row.find(',', begin) - begin, "0");
+  {
+    std::ofstream out(summary);
+    for (const std::string& line : lines) out << line << "\n";
+  }
+  try {
+    read_dem_columns(copy);
+    ADD_FAILURE() << "read a column released at a = 0";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("summary.csv: row 3: released_aspect 0 is not > 0"), std::string::npos) << e.what();
+  }
+  fs::remove_all(copy);
+}
+
 TEST(DemCollapse, RunOutHeightAndFrontAgainstTheDemAtTwoCellSizes) {
   const Reference& s = reference();
   ASSERT_EQ(s.dem.size(), 6u);
@@ -138,10 +183,10 @@ TEST(DemCollapse, RunOutHeightAndFrontAgainstTheDemAtTwoCellSizes) {
                   name.c_str(), run.runout_over_r0, d.runout, 100.0 * runout, run.final_height_over_r0, d.height,
                   100.0 * height, run.edge_runout_over_r0, d.edge_runout, t90, t90_dem);
       if (d.slot) {
-        EXPECT_LT(std::abs(runout), 0.10) << name << ": run-out " << run.runout_over_r0 << " against " << d.runout;
+        EXPECT_LT(std::abs(runout), 0.22) << name << ": run-out " << run.runout_over_r0 << " against " << d.runout;
         EXPECT_LT(std::abs(height), 0.10) << name << ": height " << run.final_height_over_r0 << " against " << d.height;
       } else {
-        // The edge (a quarter grain thick) within 12 % and half a cell (it
+        // The edge (a quarter grain thick) within 17 % and half a cell (it
         // is measured in whole cells: a = 0.5's 0.4 r0 one cell short at
         // 5 cm, exact at 10 cm); r99 also counts the DEM's toe beyond it,
         // under 0.02 r0 thick and as long in r0 at twice the grains per
@@ -153,15 +198,15 @@ TEST(DemCollapse, RunOutHeightAndFrontAgainstTheDemAtTwoCellSizes) {
         std::printf("[ measured ] %s: edge along the axes %.2f r0, along the diagonals %.2f r0\n", name.c_str(),
                     axes / run.c.r0_m, diagonals / run.c.r0_m);
         EXPECT_NEAR(diagonals, axes, 0.1 * axes + cell) << name;
-        EXPECT_LE(edge_error, 0.12 * d.edge_runout + 0.5 * cell / run.c.r0_m)
+        EXPECT_LE(edge_error, 0.17 * d.edge_runout + 0.5 * cell / run.c.r0_m)
             << name << ": edge " << run.edge_runout_over_r0 << " against " << d.edge_runout;
         EXPECT_LT(std::abs(runout), 0.35) << name << ": run-out " << run.runout_over_r0 << " against " << d.runout;
-        EXPECT_LT(std::abs(height), 0.12) << name << ": height " << run.final_height_over_r0 << " against " << d.height;
+        EXPECT_LT(std::abs(height), 0.15) << name << ": height " << run.final_height_over_r0 << " against " << d.height;
       }
       // Where the deposit holds its mass (r99 and the edge are two points of
       // it): at every distance from the axis (the wall) the share of the mass
       // within it is the DEM's within 0.13, the DEM's toe included (a = 4
-      // holds too little within 2 r0: 0.49 against 0.61).
+      // the worst, 0.07 near 2.1 r0).
       double at = 0.0;
       const double gap = mass_gap(deposit_profile(run), d.deposit, &at);
       std::printf("[ measured ] %s: mass gap %.3f (at %.2f r0)\n", name.c_str(), gap, at);
@@ -179,19 +224,17 @@ TEST(DemCollapse, RunOutHeightAndFrontAgainstTheDemAtTwoCellSizes) {
 // The same grains in a tube twice as wide (r0 = 0.2 m, 25 grains per radius:
 // kWideTubeResults), the model's grains scaled with r0 as the DEM's are
 // (0.04 r0), at the sessions' 10 and 5 cm cells. From 12.5 to 25 grains per
-// radius the DEM's r99 and height hardly move (r99 0.50 to 0.51 r0, 1.08 to
-// 1.06 and 2.06 to 2.00 at a = 0.5, 1 and 2) while its edge, where the
-// deposit is a quarter grain thick, moves out to it (0.40 to 0.52, 0.88 to
-// 1.08, 1.68 to 2.00): the deposit's sparse toe, from 0.1 down to 0.005 r0
-// thick, is 0.36-0.40 r0 long at a = 0.5 and 0.60-0.72 at a = 1 at both
-// sizes, its length scaling with r0, not with the grain (docs/fast_flows.md,
-// "Twice the grains per radius"). The model's r99 grows with the grains per
-// radius where the DEM's does not (its thin-layer law's decay length, A d,
-// halves with d). a = 1 and 2 come within 15 % on r99, edge and height
-// (-8 / -13 % and -3 / -6 %, +2 / -7 % and +5 / +3 %, -12 / -6 % and
-// -10 / -6 %), their fronts late (t90 +17 / +13 % and +23 / +19 %; tested
-// at 25 %); a = 0.5 keeps its top, its edge within 15 % (-4 / -13 %), but
-// its r99 is 21 / 25 % short and its front early (t90 -25 / -18 %).
+// radius the DEM's r99 and height hardly move (r99 0.50 to 0.52, 1.17 to
+// 1.20 and 2.26 to 2.24 r0 at a = 0.5, 1 and 2) while its edge, where the
+// deposit is a quarter grain thick, moves out to it (0.40 to 0.52, 0.96 to
+// 1.16, 1.84 to 2.20): the deposit's sparse toe scales with r0, not with
+// the grain (docs/fast_flows.md, "Twice the grains per radius"). The
+// model's r99 grows with the grains per radius where the DEM's does not
+// (its thin-layer law's decay length, A d, halves with d), yet stays short:
+// -24 / -19 / -14 % at 10 cm, -28 / -24 / -16 % at 5 cm (a = 0.5 / 1 / 2;
+// tested at 30 % and, a >= 1, 25 %); its edges within 14 % and its heights
+// within 6 %; its fronts at a >= 1 late (t90 +7 to +13 %; tested at 25 %),
+// at a = 0.5 early (-19 / -12 %).
 TEST(DemCollapse, AtTwiceTheGrainsPerRadiusAgainstTheWiderDemTube) {
   const std::vector<DemColumn>& wide = reference().wide;
   ASSERT_EQ(wide.size(), 3u);
@@ -214,10 +257,10 @@ TEST(DemCollapse, AtTwiceTheGrainsPerRadiusAgainstTheWiderDemTube) {
       EXPECT_LT(std::abs(height), 0.15) << name;
       EXPECT_LE(gap, 0.10) << name;
       if (d.aspect >= 1.0) {
-        EXPECT_LT(std::abs(runout), 0.15) << name;
+        EXPECT_LT(std::abs(runout), 0.25) << name;
         EXPECT_NEAR(t90 / t90_dem, 1.0, 0.25) << name;
       } else {
-        EXPECT_LT(std::abs(runout), 0.27) << name;  // short: docs/fast_flows.md
+        EXPECT_LT(std::abs(runout), 0.30) << name;  // short: docs/fast_flows.md
         EXPECT_NEAR(t90 / t90_dem, 1.0, 0.27) << name;
       }
     }
@@ -225,11 +268,11 @@ TEST(DemCollapse, AtTwiceTheGrainsPerRadiusAgainstTheWiderDemTube) {
 }
 
 // Raining is what bends the run-out's growth with a: from a = 2 to 4 the
-// DEM's grows as a^0.65 (Lajeunesse et al. 2004 measured a^0.5 in tubes
-// past a = 1.7); with raining the grid's grows as a^0.78, while the same
+// DEM's grows as a^0.62 (Lajeunesse et al. 2004 measured a^0.5 in tubes
+// past a = 1.7); with raining the grid's grows as a^0.79, while the same
 // flow without it (a hydrostatic shallow layer, the failed mass flowing at
 // once) turns the column's whole height into horizontal pressure and grows
-// faster than a (a^1.19).
+// faster than a (a^1.21).
 TEST(DemCollapse, RainingBendsTheRunOutsGrowthLikeTheDem) {
   const Reference& s = reference();
   double dem2 = 0.0, dem4 = 0.0;
@@ -281,16 +324,16 @@ TEST(DemCollapse, TheFastFlowIsCloserThanTheAutomatonOnEveryColumn) {
 
 // A load let go from a height (a = 1 dropped 4 r0, as a bucket's load dumped
 // from 2 m): the DEM's grains splash out to a flat deposit, edge 1.68 r0 out
-// and 0.41 r0 high. Landing with its momentum and pressing on the layer with
+// and 0.40 r0 high. Landing with its momentum and pressing on the layer with
 // its impact (dem_sand's impact_sheet_speed_ratio, measured on the DEM's
 // granular jet, not on this run), the grid's heap spreads to the DEM's edge
 // within 25 % (+19 / -2 % at 10 / 5 cm; a 10 cm cell is 6 % of it) and
 // holds its mass where the DEM's lies, the share within every distance from
-// the axis within 0.12 of the DEM's (0.09 / 0.11; with the fall lost 0.21 /
-// 0.24, the automaton alone 0.38), but stands taller, within 50 % of its
-// height (+27 / +42 %: its middle, where the stagnation flow under the
+// the axis within 0.13 of the DEM's (0.125 / 0.107; with the fall lost 0.18 /
+// 0.22, the automaton alone 0.35), but stands taller, within 50 % of its
+// height (+29 / +31 %: its middle, where the stagnation flow under the
 // landing is slow, keeps a cone holding little mass); with the fall lost at
-// the impact it stays 35-40 % short and 80-92 % tall, and the automaton
+// the impact it stays 29-37 % short and 76-79 % tall, and the automaton
 // alone shorter still (docs/fast_flows.md).
 TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
   const Reference& s = reference();
@@ -315,8 +358,8 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
                    gap_slow = mass_gap(deposit_profile(slow), d.deposit);
       std::printf("[ measured ] %s, %g m: mass gap %.3f (the fall lost %.3f, automaton %.3f)\n", column_name(d).c_str(), cell,
                   gap, gap_lost, gap_slow);
-      EXPECT_LE(gap, 0.12) << cell;
-      EXPECT_LT(gap, gap_lost - 0.1) << cell;
+      EXPECT_LE(gap, 0.13) << cell;
+      EXPECT_LT(gap, gap_lost - 0.05) << cell;
       EXPECT_TRUE(fast.books_exact && plain.books_exact && slow.books_exact) << cell;
       EXPECT_TRUE(fast.flow_at_rest && plain.flow_at_rest) << cell;
       EXPECT_NEAR(fast.edge_runout_over_r0 / d.edge_runout, 1.0, 0.25) << cell;
@@ -338,9 +381,9 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
 // is not the DEM material's, so this is the dump's footprint a trainee
 // sees, not a calibration: its edge within 15 % of the DEM's (+1 / -5 % and
 // +1 / -8 %), where with the fall lost it was 40-46 % short; its mass
-// where the DEM's lies within 0.12 at every distance from the axis (0.09-0.11;
-// with the fall lost 0.27-0.30); its middle stands taller than the DEM's flat
-// cake (+43-78 %), yet lower than with the fall lost (docs/fast_flows.md).
+// where the DEM's lies within 0.12 at every distance from the axis (0.08-0.11;
+// with the fall lost 0.24-0.27); its middle stands taller than the DEM's flat
+// cake (+49-84 %), yet lower than with the fall lost (docs/fast_flows.md).
 TEST(DemCollapse, TheSessionsSandsSpreadADumpToTheDemsEdge) {
   const Reference& s = reference();
   const fs::path material_path = repository_dem_dir() / "calibration/material.csv";
@@ -395,7 +438,7 @@ TEST(DemCollapse, AGranularJetLandsWhereTheDemsDid) {
   const std::map<std::string, double> jet = read_csv_quantities(path);
   DemColumn d = s.dem.front();  // the deck's floor
   d.slot = false;
-  d.aspect = jet.at("column_length_over_R");
+  d.aspect = d.released_aspect = jet.at("column_length_over_R");
   d.drop_over_r0 = jet.at("drop_m") / jet.at("jet_radius_m");
   d.grain_diameter_over_r0 = s.sand.flow.grain_diameter_m / jet.at("jet_radius_m");
   for (double cell : {0.1, 0.05}) {
