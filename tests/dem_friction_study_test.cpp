@@ -84,8 +84,8 @@ std::vector<StudyRun> study(const FrictionStudyMaterial& m) {
 
 // The rougher material (rolling friction 0.6). The DEM's run-out falls by
 // a quarter (r99 -21 / -26 / -24 % at a = 0.5 / 1 / 2) and its heights rise
-// (+13 / +15 % at a = 1 / 2); the model's barely move (r99 +3 / +4 % at
-// a >= 1 at 10 cm, +1 / +2 % at 5 cm, -3 / -12 % at a = 0.5, heights +1 to
+// (+12 / +15 % at a = 1 / 2); the model's barely move (r99 +4 / +3 % at
+// a = 1 / 2 at 10 cm, +2 / +1 % at 5 cm, -3 / -12 % at a = 0.5, heights +1 to
 // +5 %): the automaton's stop angle, 3 deg under the repose angle (an
 // estimate) and so 5.4 deg steeper, lengthens its run-out (the automaton
 // acts on the flow's cells), which outweighs the floor's friction
@@ -111,10 +111,10 @@ TEST(DemFrictionStudy, ARougherMaterialsColumnsAgainstItsDem) {
 }
 
 // The smoother material (rolling friction 0.15: repose 27.0 deg, thick
-// layer 19.8, floor 15.2). The DEM's run-out grows by half (r99 +59 / +65 /
-// +50 % at a = 0.5 / 1 / 2) and its heights fall (-18 / -17 % at a = 1 and
-// 2); the model's moves far less (r99 +8 / +4 / +0 % at 10 cm, +21 / +8 /
-// +9 % at 5 cm), 52-56 % short of the smoother DEM at a >= 1. Across the
+// layer 19.8, floor 15.2). The DEM's run-out grows by half (r99 +60 / +65 /
+// +51 % at a = 0.5 / 1 / 2) and its heights fall (-18 / -17 % at a = 1 and
+// 2); the model's moves far less (r99 +10 / +3 / +0 % at 10 cm, +21 / +8 /
+// +9 % at 5 cm), 52-57 % short of the smoother DEM at a >= 1. Across the
 // three materials the DEM's r99 at a = 1 spans 0.87-1.93 r0, the model's
 // 0.83-0.87 (10 cm): it does not follow the material's friction
 // (docs/fast_flows.md, "A rougher material, and a smoother one"). Held: the DEM's response, and
