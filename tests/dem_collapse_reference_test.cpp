@@ -97,30 +97,37 @@ TEST(DemCollapse, TheMassGapIsKolmogorovSmirnovsDistance) {
   }
 }
 
-// A DEM reference without a column's deposit, or with one whose bins do
-// not start at the axis, is refused, naming the file (and the row).
-TEST(DemCollapse, AMissingDepositIsNamed) {
+// The DEM reference's columns and calibration copied to a scratch folder
+// `name`, for a test to spoil.
+fs::path copied_reference(const char* name) {
   const fs::path dem = repository_dem_dir();
-  const fs::path copy = fs::temp_directory_path() / "skidsim_dem_columns_missing_deposit";
+  const fs::path copy = fs::temp_directory_path() / name;
   fs::remove_all(copy);
   fs::create_directories(copy / "collapse");
   fs::create_directories(copy / "calibration");
   fs::copy(dem / "collapse/results", copy / "collapse/results");
   fs::copy_file(dem / "calibration/material.csv", copy / "calibration/material.csv");
+  return copy;
+}
+
+// Reading the reference in `dem` fails with a message holding `naming`.
+void expect_refused(const fs::path& dem, const std::string& naming, const char* read_what) {
+  try {
+    read_dem_columns(dem);
+    ADD_FAILURE() << "read " << read_what;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(naming), std::string::npos) << e.what();
+  }
+}
+
+// A DEM reference without a column's deposit, or with one whose bins do
+// not start at the axis, is refused, naming the file (and the row).
+TEST(DemCollapse, AMissingDepositIsNamed) {
+  const fs::path copy = copied_reference("skidsim_dem_columns_missing_deposit");
   fs::remove(copy / "collapse/results/deposit_tube_a2.csv");
-  try {
-    read_dem_columns(copy);
-    ADD_FAILURE() << "read a reference without deposit_tube_a2.csv";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("deposit_tube_a2.csv"), std::string::npos) << e.what();
-  }
+  expect_refused(copy, "deposit_tube_a2.csv", "a reference without deposit_tube_a2.csv");
   std::ofstream(copy / "collapse/results/deposit_tube_a2.csv") << "r_m,thickness_m,top_m\n0.004,0.1,0.1\n0.012,0.1,0.1\n0.030,0.1,0.1\n";
-  try {
-    read_dem_columns(copy);
-    ADD_FAILURE() << "read a deposit whose third bin is out of place";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("deposit_tube_a2.csv: row 4: r_m 0.03"), std::string::npos) << e.what();
-  }
+  expect_refused(copy, "deposit_tube_a2.csv: row 4: r_m 0.03", "a deposit whose third bin is out of place");
   fs::remove_all(copy);
 }
 
@@ -128,13 +135,7 @@ TEST(DemCollapse, AMissingDepositIsNamed) {
 // collapse.py wrote one, or a row that lost it) is refused, naming the file
 // and the row: the model would collapse a column of no height.
 TEST(DemCollapse, AColumnWithoutItsReleasedAspectIsNamed) {
-  const fs::path dem = repository_dem_dir();
-  const fs::path copy = fs::temp_directory_path() / "skidsim_dem_columns_released_aspect";
-  fs::remove_all(copy);
-  fs::create_directories(copy / "collapse");
-  fs::create_directories(copy / "calibration");
-  fs::copy(dem / "collapse/results", copy / "collapse/results");
-  fs::copy_file(dem / "calibration/material.csv", copy / "calibration/material.csv");
+  const fs::path copy = copied_reference("skidsim_dem_columns_released_aspect");
   const fs::path summary = copy / "collapse/results/summary.csv";
   std::vector<std::string> lines;
   {
@@ -155,12 +156,7 @@ TEST(DemCollapse, AColumnWithoutItsReleasedAspectIsNamed) {
     std::ofstream out(summary);
     for (const std::string& line : lines) out << line << "\n";
   }
-  try {
-    read_dem_columns(copy);
-    ADD_FAILURE() << "read a column released at a = 0";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("summary.csv: row 3: released_aspect 0 is not > 0"), std::string::npos) << e.what();
-  }
+  expect_refused(copy, "summary.csv: row 3: released_aspect 0 is not > 0", "a column released at a = 0");
   fs::remove_all(copy);
 }
 
