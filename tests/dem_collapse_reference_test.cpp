@@ -39,11 +39,13 @@
 // loses ground fails; tighten them as the model improves.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -137,24 +139,27 @@ TEST(DemCollapse, AMissingDepositIsNamed) {
 TEST(DemCollapse, AColumnWithoutItsReleasedAspectIsNamed) {
   const fs::path copy = copied_reference("skidsim_dem_columns_released_aspect");
   const fs::path summary = copy / "collapse/results/summary.csv";
-  std::vector<std::string> lines;
+  // The summary's fields, row by row.
+  std::vector<std::vector<std::string>> rows;
   {
     std::ifstream in(summary);
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    for (std::string line; std::getline(in, line);) {
+      rows.emplace_back();
+      std::istringstream fields(line);
+      for (std::string field; std::getline(fields, field, ',');) rows.back().push_back(field);
+    }
   }
-  ASSERT_GE(lines.size(), 3u);
-  // The released_aspect column of the second column's row set to 0.
-  std::size_t column = 0;
-  for (std::size_t at = 0, next; (next = lines[0].find(',', at)) != std::string::npos && lines[0].substr(at, next - at) != "released_aspect";
-       at = next + 1)
-    ++column;
-  std::string& row = lines[2];
-  std::size_t begin = 0;
-  for (std::size_t k = 0; k < column; ++k) begin = row.find(',', begin) + 1;
-  row.replace(begin, row.find(',', begin) - begin, "0");
+  ASSERT_GE(rows.size(), 3u);
+  // The second column's released_aspect set to 0.
+  const auto column = std::find(rows[0].begin(), rows[0].end(), "released_aspect") - rows[0].begin();
+  ASSERT_LT(column, static_cast<std::ptrdiff_t>(rows[0].size()));
+  rows[2][column] = "0";
   {
     std::ofstream out(summary);
-    for (const std::string& line : lines) out << line << "\n";
+    for (const auto& row : rows) {
+      for (std::size_t k = 0; k < row.size(); ++k) out << (k ? "," : "") << row[k];
+      out << "\n";
+    }
   }
   expect_refused(copy, "summary.csv: row 3: released_aspect 0 is not > 0", "a column released at a = 0");
   fs::remove_all(copy);

@@ -118,7 +118,8 @@ def post_run(scratch, results, meta_path):
     if not frames:
         raise SystemExit("collapse.py: no dumps for %s a %s in %s" % (geom, aspect, scratch))
     # the column as released (the first frame): its top grains' centres, a dropped column's above its shelf
-    released_h = centre_height(read_dump(frames[0]), slot) - drop - 0.5 * D50_M
+    released = read_dump(frames[0])
+    released_h = centre_height(released, slot) - drop - 0.5 * D50_M
     if released_h < h0 - D50_M:
         sys.stderr.write("collapse.py: %s a %s: the column stands %.4f m at release, %.4f m short of H0; "
                          "it is compared at its released aspect ratio %.3f (dem/collapse/column.in fills it)\n"
@@ -126,9 +127,9 @@ def post_run(scratch, results, meta_path):
     column_volume = r0 * width * released_h if slot else math.pi * r0 ** 2 * released_h
     rho_bulk = mass / column_volume
     series = []
-    for path in frames:
+    for k, path in enumerate(frames):
         step = int(path.rsplit(".", 2)[1])
-        atoms = read_dump(path)
+        atoms = released if k == 0 else read_dump(path)
         rows = profile(atoms, slot, width, rho_bulk)
         series.append((step, front_r99(atoms, slot), front_edge(rows), centre_height(atoms, slot),
                        kinetic_energy(atoms)))
