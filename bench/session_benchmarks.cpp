@@ -36,37 +36,57 @@ struct PublishState : session::SessionOutput {
   }
 };
 
+// The pile-to-zone exercise at `cell_m`, its site's fast flows as asked.
+io::Exercise pile_to_zone_at(double cell_m, bool fast_flow) {
+  io::Exercise ex = io::load_exercise(source("scenarios/pile_to_zone.xml"));
+  ex.soils.front().cell_m = cell_m;
+  ex.soils.front().fast_flow = fast_flow;
+  return ex;
+}
+
+// The pile-to-zone session played by its script; start() begins it afresh.
+struct ScriptedPileToZone {
+  ScriptedPileToZone(double cell_m, bool fast_flow)
+      : soils(io::load_soil_table(io::default_soil_table_path())),
+        ex(pile_to_zone_at(cell_m, fast_flow)),
+        loader(io::load_loader(ex.machine.loader)),
+        script(io::load_operator_script(source("scenarios/pile_to_zone.operator.xml"))) {}
+  void start() {
+    session = std::make_unique<session::Session>(ex, loader, soils, session::SessionOptions{});
+    op = std::make_unique<session::ScriptOperator>(script);
+  }
+  void stop() { op.reset(), session.reset(); }
+  // One control tick; why the session ended at it, or "".
+  std::string tick(session::SessionOutput& out) { return session->tick(false, decide, out); }
+  const io::SoilTable soils;
+  const io::Exercise ex;
+  const vehicle::LoaderDescription loader;
+  const io::OperatorScript script;
+  std::unique_ptr<session::Session> session;
+  std::unique_ptr<session::ScriptOperator> op;
+  const session::DecideControls decide = [this](const skidsim_lcm::state_t& st, long, double t) { return op->decide(st, t); };
+};
+
 // One iteration: one simulated second of the session (100 control ticks of
 // the session library: the script's player, the tasks' books, the timeline,
 // 500 world steps), as `skidsim run` drives it, less the log. A session that
-// ends (its tasks done) starts again, untimed.
+// ends (its tasks done) starts again, untimed. The site's fast flows off, as
+// these rows were first measured (their cost: BM_SessionFastFlowCost).
 void BM_SessionPileToZone(benchmark::State& state) {
   const double cell_m = static_cast<double>(state.range(0)) / 1000.0;
   const bool publish = state.range(1) != 0;
-  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
-  io::Exercise ex = io::load_exercise(source("scenarios/pile_to_zone.xml"));
-  ex.soils.front().cell_m = cell_m;
-  ex.soils.front().fast_flow = false;  // as these rows were first measured; their cost: BM_SessionFastFlowCost
-  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
-  const io::OperatorScript script = io::load_operator_script(source("scenarios/pile_to_zone.operator.xml"));
+  ScriptedPileToZone run(cell_m, false);
   io::ControlInput input(0.2);
   std::unique_ptr<io::LcmBridge> bridge;
   if (publish) bridge = std::make_unique<io::LcmBridge>("udpm://239.255.76.67:7699?ttl=0", io::LcmChannels{}, &input);
   PublishState out;
   out.bridge = bridge.get();
-  std::unique_ptr<session::Session> session;
-  std::unique_ptr<session::ScriptOperator> op;
-  const auto start = [&] {
-    session = std::make_unique<session::Session>(ex, loader, soils, session::SessionOptions{});
-    op = std::make_unique<session::ScriptOperator>(script);
-  };
-  start();
-  const session::DecideControls decide = [&](const skidsim_lcm::state_t& st, long, double t) { return op->decide(st, t); };
+  run.start();
   for (auto _ : state) {
     for (int tick = 0; tick < 100; ++tick)
-      if (!session->tick(false, decide, out).empty()) {
+      if (!run.tick(out).empty()) {
         state.PauseTiming();
-        start();
+        run.start();
         state.ResumeTiming();
       }
   }
@@ -88,26 +108,19 @@ void BM_SessionFastFlowCost(benchmark::State& state) {
   const double tick_s = session::kStepsPerTick * engine::kStepSeconds;
   const int ticks_45_s = static_cast<int>(std::lround(45.0 / tick_s));
   const bool fast_flow = state.range(0) != 0;
-  const io::SoilTable soils = io::load_soil_table(io::default_soil_table_path());
-  io::Exercise ex = io::load_exercise(source("scenarios/pile_to_zone.xml"));
-  ex.soils.front().cell_m = 0.05;
-  ex.soils.front().fast_flow = fast_flow;
-  const vehicle::LoaderDescription loader = io::load_loader(ex.machine.loader);
-  const io::OperatorScript script = io::load_operator_script(source("scenarios/pile_to_zone.operator.xml"));
+  ScriptedPileToZone run(0.05, fast_flow);
   PublishState out;
   long ticks = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    auto session = std::make_unique<session::Session>(ex, loader, soils, session::SessionOptions{});
-    auto op = std::make_unique<session::ScriptOperator>(script);
-    const session::DecideControls decide = [&](const skidsim_lcm::state_t& st, long, double t) { return op->decide(st, t); };
+    run.start();
     state.ResumeTiming();
     for (int tick = 0; tick < ticks_45_s; ++tick) {
       ++ticks;
-      if (!session->tick(false, decide, out).empty()) break;
+      if (!run.tick(out).empty()) break;
     }
     state.PauseTiming();
-    op.reset(), session.reset();
+    run.stop();
     state.ResumeTiming();
   }
   state.counters["fast_flow"] = fast_flow ? 1.0 : 0.0;
