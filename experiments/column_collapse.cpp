@@ -189,7 +189,7 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
       run.frames.push_back(measure_collapse(g, c, s * c.step_dt_s));
       run.books_exact = run.books_exact && books();
     }
-    if (g.at_rest() && (!flow || (flow->moving_cells() == 0 && !flow->pressing())) && (!exchange || exchange->parcels().empty())) {
+    if (g.at_rest() && (!flow || flow->at_rest()) && (!exchange || exchange->parcels().empty())) {
       run.at_rest = true;
       run.t_stop_s = s * c.step_dt_s;
       break;
@@ -197,7 +197,7 @@ CollapseRun run_column_collapse(const CollapseCase& c, const SoilFlowParameters&
   }
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.steps = s;
-  run.flow_at_rest = !flow || (flow->moving_cells() == 0 && !flow->pressing());
+  run.flow_at_rest = !flow || flow->at_rest();
   run.final_state = measure_collapse(g, c, s * c.step_dt_s);
   run.deposit_volume_m3 = radial_volumes_m3(g, c, nullptr);
   run.books_exact = run.books_exact && books();

@@ -50,13 +50,18 @@ std::string fed_heap_table(const fs::path& dem_dir, const terrain::SoilFlowParam
 
 // Tubes at r0 = 1 m with the soils' own grains and their bed's friction on
 // the floor (experiments/column_collapse.h, laboratory_column_case) against
-// the published run-out law: dem_sand and the sessions' sands, the fast flow
-// and the automaton alone. Each cell: run-out / height over r0.
+// the published run-out law: dem_sand with the fast flow at its defaults
+// (the DEM tables' model), the sessions' sands with the flow the sessions
+// run (terrain::session_flow_parameters), and the automaton alone. Each
+// cell: run-out / height over r0.
 std::string published_laws_table(const io::SoilTable& soils, const std::vector<double>& cells) {
   const char* const names[] = {"dem_sand", "dry_sand", "lete_sand"};
   std::string header = "| a | published run-out |", rule = "|---|---|";
+  auto sessions_sand = [&](const char* name) { return std::string(name) != "dem_sand"; };
   for (const char* name : names)
-    for (double cell : cells) header += std::string(" ") + name + ", " + fmt("%g", cell * 100.0) + " cm |", rule += "---|";
+    for (double cell : cells)
+      header += std::string(" ") + name + (sessions_sand(name) ? " (the sessions' flow)" : "") + ", " + fmt("%g", cell * 100.0) + " cm |",
+          rule += "---|";
   for (const char* name : names) header += std::string(" ") + name + ", automaton alone, 10 cm |", rule += "---|";
   std::string rows;
   for (double a : {0.5, 1.0, 2.0, 4.0}) {
@@ -64,6 +69,7 @@ std::string published_laws_table(const io::SoilTable& soils, const std::vector<d
     auto cell_text = [&](const char* name, double cell, bool momentum) {
       CollapseCase c = terrain::laboratory_column_case(a, cell);
       c.momentum = momentum;
+      if (sessions_sand(name)) c.momentum_params = terrain::session_flow_parameters();
       const CollapseRun run = terrain::run_column_collapse(c, soils.at(name).flow);
       return " | " + fmt("%.2f", run.runout_over_r0) + " / " + fmt("%.2f", run.final_height_over_r0);
     };
@@ -275,7 +281,9 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "axisymmetric collapses, (r_inf - r0) / r0 = 1.24 a below a = 1.7 and 1.6 a^0.5 above (Lube et al. 2004, on "
       "sand, salt, rice, couscous and sugar alike; independent of the DEM): tubes at r0 = 1 m with the soils' own "
       "grains (dem_sand's 8 mm: 125 per radius; the sessions' sands have no thin-layer law) and their bed's friction "
-      "on the floor; dem_sand and the sessions' sands (dry_sand, lete_sand: Coulomb at their stop angles, " +
+      "on the floor; dem_sand with the fast flow's defaults (the automaton sharing the flow's cells, as in the tables "
+      "above) and the sessions' sands with the flow the sessions run (owning its cells, the mean speed's lay-down, "
+      "gathering steps: docs/fast_flows.md, \"Which flow the sessions run\"; dry_sand, lete_sand: Coulomb at their stop angles, " +
       fmt("%.0f", soils.at("dry_sand").flow.flowing_friction_deg()) + " and " +
       fmt("%.0f", soils.at("lete_sand").flow.flowing_friction_deg()) + " deg, where dem_sand's flowing friction is " +
       fmt("%.1f", sand.flowing_friction_deg()) + " deg). Each cell: run-out (r99) / height over r0.\n\n" +

@@ -90,7 +90,7 @@ std::unique_ptr<engine::World> build_session_world(const io::Exercise& ex, const
   auto world = std::make_unique<engine::World>(loader, ground, pose, ex.machine.lift_rad, ex.machine.tilt_rad);
   if (grid) {
     world->add_soil_site(std::move(grid), soils.at(ex.soils.front().soil).terramechanics);
-    if (ex.soils.front().fast_flow) world->enable_fast_flow(terrain::MomentumFlowParameters{});
+    if (ex.soils.front().fast_flow) world->enable_fast_flow(terrain::session_flow_parameters());
   } else if (!ex.trucks.empty() || loader.bucket_interior.present) {
     // No soil on site: the bucket and the beds still carry what they get.
     world->enable_material(soils.count("dry_sand") ? soils.at("dry_sand").flow : terrain::SoilFlowParameters{}, 0.05);

@@ -28,6 +28,14 @@ double earth_pressure(double phi_deg, double delta_deg, double sign) {
 double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, -1.0); }
 double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, 1.0); }
 
+MomentumFlowParameters session_flow_parameters() {
+  MomentumFlowParameters p;
+  p.owns_cells = true;
+  p.deposition = MomentumFlowParameters::Deposition::kMeanSpeed;
+  p.gather_steps = true;
+  return p;
+}
+
 double MomentumFlow::rate_rise(double mu_stop, double i0, double h_m, double speed_m_s) const {
   if (!(speed_m_s > 0.0)) return mu_stop;
   if (!(h_m > 0.0)) return std::max(mu_stop, rate_mu_);
@@ -40,6 +48,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
       d_(grid.cell_size_m()),
       courant_(params.courant),
       max_substeps_(params.max_substeps),
+      gather_steps_(params.gather_steps),
       raining_(params.raining),
       erosion_(params.erosion),
       owns_cells_(params.owns_cells),
@@ -194,6 +203,7 @@ void MomentumFlow::mark_face(int face, bool x) {
 void MomentumFlow::wake_all(const GranularGrid& grid) {
   for (int c = 0; c < grid.nx() * grid.ny(); ++c)
     if (grid.loose_quanta(c) > 0) mark(c);
+  woken_all_ = true;  // (the next step moves them, gathering or not)
 }
 
 double MomentumFlow::velocity_x_m_s(int cell) const {
@@ -226,13 +236,19 @@ void MomentumFlow::step(GranularGrid& grid) {
   last_substeps_ = 0;
   // At rest: nothing to do (a landing's pressure still relaxing keeps the
   // flow stepping until it ends).
-  if (moving_.empty() && candidates_.empty() && impacted_.empty()) return;
+  if (moving_.empty() && candidates_.empty() && impacted_.empty()) {
+    gathered_s_ = 0.0;
+    return;
+  }
   // Sub-steps for the fastest signal among the moving cells and the
   // candidates (Courant number courant_), within the bound checked at
-  // construction.
+  // construction: a moving cell's gravity wave runs in its flowing layer
+  // (and the rain landing on it) over a static bed, sqrt(g K f); a cell
+  // woken from outside (wake_all, land) may fail down to its whole loose
+  // depth.
   double fastest = 0.0;
-  auto signal = [&](int c) {
-    const double h = grid.loose_quanta(c) * kHeightQuantumM;
+  auto signal = [&](int c, bool woken) {
+    const double h = (woken ? grid.loose_quanta(c) : flowing_[c] + rain_[c]) * kHeightQuantumM;
     const std::array<int, 4> f = faces_of(c);
     const double u = std::max(std::abs(ux_face_[f[1]]), std::abs(ux_face_[f[0]]));
     const double v = std::max(std::abs(uy_face_[f[3]]), std::abs(uy_face_[f[2]]));
@@ -243,11 +259,21 @@ void MomentumFlow::step(GranularGrid& grid) {
     shape_impacts();
     ++pressed_steps_;
   }
-  for (int c : moving_) fastest = std::max(fastest, signal(c));
-  for (int c : candidates_) fastest = std::max(fastest, signal(c));
-  const int n = std::clamp(static_cast<int>(std::ceil(fastest * step_dt_s_ / (courant_ * d_) - 1e-12)), 1, max_substeps_);
+  for (int c : moving_) fastest = std::max(fastest, signal(c, false));
+  for (int c : candidates_) fastest = std::max(fastest, signal(c, true));
+  gathered_s_ += step_dt_s_;
+  // Gathering steps (docs/fast_flows.md, "Gathering steps"): a flow that
+  // the next step would still leave within one sub-step's Courant number
+  // waits for it, and then moves the time gathered in one sub-step; not
+  // under a landing's pressure (it relaxes step by step) nor with the
+  // cells of wake_all still to fail.
+  if (gather_steps_ && impacted_.empty() && !woken_all_ && fastest * (gathered_s_ + step_dt_s_) <= courant_ * d_) return;
+  const double span_s = gathered_s_;
+  gathered_s_ = 0.0;
+  woken_all_ = false;
+  const int n = std::clamp(static_cast<int>(std::ceil(fastest * span_s / (courant_ * d_) - 1e-12)), 1, max_substeps_);
   for (int s = 0; s < n && !(moving_.empty() && candidates_.empty()); ++s) {
-    substep(grid, step_dt_s_ / n);
+    substep(grid, span_s / n);
     ++last_substeps_;
     ++substeps_run_;
   }

@@ -63,10 +63,10 @@
 // rest), in sessions whose site turns it on (engine::World::enable_fast_flow:
 // what lands from a body joins the layer through land()) and in the collapse
 // experiment (experiments/column_collapse.h). Cells start moving when woken
-// (wake_all, land) or beside a moving cell. With owns_cells (a study, off by
-// default) the automaton leaves the flowing layer's cells to the flow, and
-// a slowing layer lays its base down instead (docs/fast_flows.md, "A flow
-// that owns its cells").
+// (wake_all, land) or beside a moving cell. With owns_cells (off by
+// default; on in the sessions' flow, session_flow_parameters) the automaton
+// leaves the flowing layer's cells to the flow, and a slowing layer lays its
+// base down instead (docs/fast_flows.md, "A flow that owns its cells").
 #pragma once
 
 #include <array>
@@ -107,6 +107,12 @@ struct MomentumFlowParameters {
   // study_past_bound is set (a stability study: the tests show it breaking).
   double courant = 0.4;
   bool study_past_bound = false;
+  // A slow flow gathers the world's steps: it waits while one sub-step over
+  // the time gathered and the next step would stay within `courant`, then
+  // moves that time in one sub-step (not under a landing's pressure, nor
+  // with wake_all's cells still to fail; docs/fast_flows.md, "Gathering
+  // steps"). Sessions gather; false: at least one sub-step every step.
+  bool gather_steps = false;
   // A channel's side walls, gap_m apart along the grid's y (0: none): the
   // layer rubs on both with Coulomb friction tan(delta_w) under its
   // hydrostatic side pressure, a deceleration tan(delta_w) g h / gap, h the
@@ -127,9 +133,10 @@ struct MomentumFlowParameters {
   // the hard base (floor_friction_deg set) from the floor's stop friction to
   // the same limit with floor_rate_friction_i0 (0: the floor's does not
   // rise), read on the flowing layer. Off by default: the automaton's
-  // deposition, which sessions run, was measured without it and stands in
-  // for the friction's rise (docs/fast_flows.md, "The friction at speed");
-  // with owns_cells the layer's own friction has to stop it.
+  // deposition on shared cells was measured without it and stands in for
+  // the friction's rise (docs/fast_flows.md, "The friction at speed"); with
+  // owns_cells the layer's own friction has to stop it, or the mean speed's
+  // lay-down (the sessions' soils give no grain size to rise with).
   bool rate_friction = false;
   double floor_rate_friction_i0 = 0.0;
   // The depth of grains a moving layer moves in, which the thin-layer law
@@ -181,6 +188,14 @@ struct MomentumFlowParameters {
   Deposition deposition = Deposition::kInterface;
   int max_substeps = 64;
 };
+
+// The flow the sessions run (docs/fast_flows.md, "Which flow the sessions
+// run"): owning its cells with the mean speed's lay-down, and gathering
+// steps. The sessions' soils give no grain size, hence no thin-layer law and
+// no rise of friction with speed; with the interface's lay-down their
+// collapses would run 20-51 % past the published law, with the mean
+// speed's within 11 % of it.
+MomentumFlowParameters session_flow_parameters();
 
 // Savage-Hutter (2.23): K = 2 sec^2(phi) (1 -+ sqrt(1 - cos^2(phi) sec^2(delta))) - 1,
 // active (-) and passive (+); delta <= phi.
@@ -234,6 +249,9 @@ class MomentumFlow {
   }
   double raining_m(int cell) const { return rain_[cell] * kHeightQuantumM; }
   std::size_t moving_cells() const { return moving_.size(); }
+  // Nothing moving, nothing woken or landed still to move, no landing's
+  // pressure (a flow gathering steps may have cells waiting).
+  bool at_rest() const { return moving_.empty() && candidates_.empty() && impacted_.empty(); }
   const std::vector<int>& moving() const { return moving_; }
   int last_substeps() const { return last_substeps_; }
   long substeps_run() const { return substeps_run_; }  // since construction
@@ -348,6 +366,8 @@ class MomentumFlow {
   double rate_rise(double mu_stop, double i0, double h_m, double speed_m_s) const;
   double mu_ = 0.0, bed_start_tan_ = 0.0, floor_mu_ = 0.0, mu_start_ = 0.0, min_layer_m_ = 0.0, wall_mu_over_gap_ = 0.0, k_active_ = 1.0, k_passive_ = 1.0, courant_ = 0.4;
   int max_substeps_ = 64, last_substeps_ = 0;
+  bool gather_steps_ = false, woken_all_ = false;  // woken_all_: wake_all's cells not yet moved
+  double gathered_s_ = 0.0;                         // the time gathered since the flow last moved (s)
   long substeps_run_ = 0, pressed_steps_ = 0;
   bool raining_ = true, erosion_ = true, owns_cells_ = false;
   MomentumFlowParameters::Deposition deposition_ = MomentumFlowParameters::Deposition::kInterface;

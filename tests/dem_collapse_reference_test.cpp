@@ -378,13 +378,15 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
 // the sheet speed ratio the DEM's jet measured (assets/soils.xml): a bucket's
 // load, a column 1 m across and 0.5 m tall (0.39 m3), dumped from 2 m (4 r0, the DEM's
 // dropped column in its dimensionless form) at the sessions' 5 cm and at
-// 2.5 cm. Their own flow law (Coulomb at the stop angle, no thin-layer law)
-// is not the DEM material's, so this is the dump's footprint a trainee
-// sees, not a calibration: its edge within 15 % of the DEM's (+1 / -5 % and
-// +1 / -8 %), where with the fall lost it was 40-46 % short; its mass
-// where the DEM's lies within 0.12 at every distance from the axis (0.08-0.11;
-// with the fall lost 0.24-0.27); its middle stands taller than the DEM's flat
-// cake (+49-84 %), yet lower than with the fall lost (docs/fast_flows.md).
+// 2.5 cm, with the flow the sessions run (terrain::session_flow_parameters).
+// Their own flow law (Coulomb at the stop angle, no thin-layer law) is not
+// the DEM material's, so this is the dump's footprint a trainee sees, not a
+// calibration: its edge within 15 % of the DEM's (dry_sand +7 / +4 %,
+// lete_sand +1 / -2 %), where with the fall lost it is 17-29 % short; its
+// mass where the DEM's lies within 0.12 at every distance from the axis
+// (0.06-0.08; with the fall lost 0.15-0.19); its middle stands taller than
+// the DEM's flat cake (+43-75 %), yet lower than with the fall lost
+// (docs/fast_flows.md, "The sessions' sands").
 TEST(DemCollapse, TheSessionsSandsSpreadADumpToTheDemsEdge) {
   const Reference& s = reference();
   const fs::path material_path = repository_dem_dir() / "calibration/material.csv";
@@ -406,6 +408,7 @@ TEST(DemCollapse, TheSessionsSandsSpreadADumpToTheDemsEdge) {
       c.cell_m = cell;
       c.momentum = true;
       c.drop_over_r0 = dropped->drop_over_r0;
+      c.momentum_params = terrain::session_flow_parameters();  // as the sessions run it
       const auto run = terrain::run_column_collapse(c, sand), plain = terrain::run_column_collapse(c, lost);
       std::printf("[ measured ] %s, a load 1 m across dumped from %.1f m, %g m: edge %.2f r0 (DEM %.2f; the fall lost %.2f), "
                   "height %.2f r0 (DEM %.2f; the fall lost %.2f)\n",
@@ -417,8 +420,8 @@ TEST(DemCollapse, TheSessionsSandsSpreadADumpToTheDemsEdge) {
       EXPECT_TRUE(run.books_exact && plain.books_exact && run.flow_at_rest && plain.flow_at_rest) << name << ", " << cell;
       EXPECT_NEAR(run.edge_runout_over_r0 / dropped->edge_runout, 1.0, 0.15) << name << ", " << cell;
       EXPECT_LE(gap, 0.12) << name << ", " << cell;
-      EXPECT_LT(gap, gap_lost - 0.1) << name << ", " << cell;
-      EXPECT_GT(run.edge_runout_over_r0, plain.edge_runout_over_r0 + 0.4) << name << ", " << cell;
+      EXPECT_LT(gap, gap_lost - 0.08) << name << ", " << cell;
+      EXPECT_GT(run.edge_runout_over_r0, plain.edge_runout_over_r0 + 0.3) << name << ", " << cell;
       EXPECT_LT(run.final_height_over_r0, plain.final_height_over_r0 - 0.08) << name << ", " << cell;
     }
   }

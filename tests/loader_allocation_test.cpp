@@ -103,7 +103,7 @@ void digging_allocates_nothing_once_warm(bool fast_flow) {
   pose.translation() = Eigen::Vector3d(0.0, -3.0, 1.0 + shipped_loader().tyre.radius_m);
   engine::World w(shipped_loader(), engine::FirmGround{}, pose, 0.03, 0.03);
   w.add_soil_site(std::move(grid), sand.terramechanics);
-  if (fast_flow) w.enable_fast_flow(terrain::MomentumFlowParameters{});
+  if (fast_flow) w.enable_fast_flow(terrain::session_flow_parameters());  // as the sessions run it
   // Every 6 s: 3 s with the arm down and the bucket tipped into the sand
   // while driving the circle, then 3 s raising it, curling and dumping.
   const auto digging = [](long s) {

@@ -30,7 +30,7 @@ std::unique_ptr<engine::World> loaded_loader(double cells_per_m, bool heaped, bo
   pose.translation() = Eigen::Vector3d(0, 0, shipped_loader().tyre.radius_m - 0.01);
   auto w = std::make_unique<engine::World>(shipped_loader(), engine::FirmGround{}, pose, 0.3, 0.0);
   w->add_soil_site(engine::flat_soil_grid(dry_sand().flow, cells_per_m, {-3.0, -4.0}, 40.0, 8.0, 0.0), dry_sand().terramechanics);
-  if (fast_flow) w->enable_fast_flow(terrain::MomentumFlowParameters{});
+  if (fast_flow) w->enable_fast_flow(terrain::session_flow_parameters());  // as the sessions run it
   vehicle::LoaderControls c;
   for (int s = 0; s < 1500; ++s) {
     c = {};

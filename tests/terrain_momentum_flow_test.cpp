@@ -272,7 +272,7 @@ TEST(MomentumFlow, ADamBreakStaysBelowItsDamWithinTheBoundAndRisesPastIt) {
 // with the floor's friction, not the soil's. On a bed of soil bed_m deep
 // (below) the centre is that of what stands above the bed.
 double slab_slide_m(const MomentumFlowParameters& p, double v0_m_s, const SoilFlowParameters& soil = SoilFlowParameters{},
-                    double bed_m = 0.0) {
+                    double bed_m = 0.0, long* substeps = nullptr) {
   const GridSpec spec = strip(240);  // dry sand by default: flowing friction the stop angle, 30 deg
   GranularGrid g(spec, soil, 0.002, 100000);
   for (int i = 0; i < spec.nx; ++i) g.set_material_m(i, 0, bed_m + (i >= 20 && i < 40 ? 0.05 : 0.0));
@@ -288,10 +288,36 @@ double slab_slide_m(const MomentumFlowParameters& p, double v0_m_s, const SoilFl
   const double x0 = centre_m();
   const std::int64_t slab = std::llround(0.05 / kHeightQuantumM);
   for (int i = 20; i < 40; ++i) flow.land(g, g.index(i, 0), slab, v0_m_s, 0.0);
-  for (int s = 0; s < 5000 && (s == 0 || flow.moving_cells() > 0); ++s) flow.step(g);
-  EXPECT_EQ(flow.moving_cells(), 0u);
+  for (int s = 0; s < 5000 && !flow.at_rest(); ++s) flow.step(g);
+  EXPECT_TRUE(flow.at_rest());
   EXPECT_TRUE(g.ledger().balanced());
+  if (substeps) *substeps = flow.substeps_run();
   return centre_m() - x0;
+}
+
+// Gathering steps (MomentumFlowParameters::gather_steps, as the sessions
+// run): a slow flow waits for the world's next step while one sub-step over
+// the time gathered would stay within the Courant number. The Coulomb block
+// slides as far in a third of the sub-steps, and a dam-break still stays
+// below its dam within the bound.
+TEST(MomentumFlow, GatheringStepsSlidesTheCoulombBlockAsFarInFewerSubSteps) {
+  const double v0 = 2.0;
+  MomentumFlowParameters every, gathering;
+  gathering.gather_steps = true;
+  long every_n = 0, gathering_n = 0;
+  const double block = v0 * v0 / (2.0 * kGravity_m_s2 * std::tan(deg_to_rad(SoilFlowParameters{}.flowing_friction_deg())));
+  const double a = slab_slide_m(every, v0, SoilFlowParameters{}, 0.0, &every_n);
+  const double b = slab_slide_m(gathering, v0, SoilFlowParameters{}, 0.0, &gathering_n);
+  std::printf("[ measured ] the slab slid %.3f m in %ld sub-steps, gathering steps %.3f m in %ld (Coulomb block %.3f m)\n", a, every_n, b,
+              gathering_n, block);
+  EXPECT_NEAR(b, a, 0.05 * a);
+  EXPECT_GE(b, 0.95 * block);
+  EXPECT_LE(b, 1.15 * block);
+  EXPECT_LT(3 * gathering_n, every_n);
+  for (double courant : {0.25, 0.5}) {
+    gathering.courant = courant;
+    EXPECT_LT(dam_break_rise_m(gathering, 0.002), 1e-6) << "Courant " << courant;
+  }
 }
 
 TEST(MomentumFlow, ASlabOnTheBareFloorSlidesAsACoulombBlockAtTheFloorsFriction) {
