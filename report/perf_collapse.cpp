@@ -122,16 +122,18 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
   // prototype (terrain/momentum_flow.h) at its defaults: bed friction the
   // soil's stop angle, the core at its repose angle, raining; and without
   // raining (the hydrostatic shallow layer).
+  // And the flow the sessions run (terrain::session_flow_parameters:
+  // owning its cells, the mean speed's lay-down, gathering steps).
   struct Variant {
     std::string name;
     GroundModel model;
-    bool momentum, raining;
+    bool momentum, raining, sessions_flow = false;
   };
-  // The fast flow also at 2.5 cm (40 per radius): how far the 10 and 5 cm
-  // figures are from the grid-converged model.
+  // The fast flow at its defaults also at 2.5 cm (40 per radius): how far
+  // the 10 and 5 cm figures are from the grid-converged model.
   auto cells_of = [&](const auto& v) {
     std::vector<double> out = cells;
-    if (!ctx.quick && v.momentum && v.raining) out.push_back(0.025);
+    if (!ctx.quick && v.momentum && v.raining && !v.sessions_flow) out.push_back(0.025);
     return out;
   };
   const std::vector<Variant> variants =
@@ -139,6 +141,7 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
                 : std::vector<Variant>{{"automaton", GroundModel::kAutomaton, false, false},
                                        {"slippage", GroundModel::kSlippage, false, false},
                                        {"automaton + momentum", GroundModel::kAutomaton, true, true},
+                                       {"the sessions' flow", GroundModel::kAutomaton, true, true, true},
                                        {"momentum, hydrostatic", GroundModel::kAutomaton, true, false}};
 
   Curve runout_dem{"DEM", {}}, height_dem{"DEM", {}};
@@ -162,7 +165,8 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       bool books = true;
       for (std::size_t k = 0; k < dem.size(); ++k) {
         const DemColumn& d = dem[k];
-        const CollapseCase c = dem_column_case(d, cell, v.momentum, v.raining);
+        CollapseCase c = dem_column_case(d, cell, v.momentum, v.raining);
+        if (v.sessions_flow) c.momentum_params = terrain::session_flow_parameters(c.momentum_params);
         const CollapseRun run = terrain::run_column_collapse(c, soil);
         worst = std::max(worst, column_error(d, run));
         wall += run.wall_s, simulated += run.steps * c.step_dt_s;
@@ -248,7 +252,10 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       fmt("%.1f", dem.front().slot_wall_friction_deg) + " deg; all from the DEM's inclined layers, "
       "dem/calibration/chute.in) until friction stops it, eroding, down to the thick layer's flowing friction, what "
       "the avalanche laid down and the bed it found where that bed stands past its start angle (" +
-      fmt("%.1f", sand.bed_start_angle_deg) + " deg, the DEM's erodible bed); it runs beside the automaton, which keeps the slow avalanches. \"momentum, hydrostatic\" is the same "
+      fmt("%.1f", sand.bed_start_angle_deg) + " deg, the DEM's erodible bed); it runs beside the automaton, which keeps the slow avalanches. \"the "
+      "sessions' flow\" is that flow set up as the sessions run it: owning the cells it moves (the automaton off them) and "
+      "laying a slowing layer's base down at the mean speed's rate, gathering the world's steps while it is slow "
+      "(docs/fast_flows.md, \"Which flow the sessions run\"). \"momentum, hydrostatic\" is the same "
       "without raining: the failed mass flows at once. The dropped column (a = 1 let go 4 r0 above the floor, as a "
       "bucket's load dumped from 2 m) falls as parcels (terrain/material_exchange.h) that land with their momentum "
       "and, with the fast flow, fall through the moving layer to the bed and press on the layer with their impact (as "

@@ -17,6 +17,10 @@ namespace {
 
 double tan_deg(double deg) { return std::tan(deg_to_rad(deg)); }
 
+// The stability bound on a sub-step's Courant number (docs/fast_flows.md,
+// "Stability bound").
+constexpr double kCourantBound = 0.5;
+
 // Savage-Hutter (2.23) with sign -1 (active) or +1 (passive).
 double earth_pressure(double phi_deg, double delta_deg, double sign) {
   const double c = std::cos(deg_to_rad(phi_deg)), cd = std::cos(deg_to_rad(std::min(delta_deg, phi_deg)));
@@ -28,8 +32,7 @@ double earth_pressure(double phi_deg, double delta_deg, double sign) {
 double earth_pressure_active(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, -1.0); }
 double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_pressure(phi_deg, delta_deg, 1.0); }
 
-MomentumFlowParameters session_flow_parameters() {
-  MomentumFlowParameters p;
+MomentumFlowParameters session_flow_parameters(MomentumFlowParameters p) {
   p.owns_cells = true;
   p.deposition = MomentumFlowParameters::Deposition::kMeanSpeed;
   p.gather_steps = true;
@@ -59,7 +62,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   const double start_deg = params.start_friction_deg > 0.0 ? params.start_friction_deg : soil.repose_angle_deg;
   if (!(bed_deg > 0.0 && bed_deg < 89.0 && start_deg >= bed_deg && start_deg < 89.0))
     throw std::invalid_argument("momentum flow: bed friction must be in (0, 89) deg and at most the start friction");
-  if (!(courant_ > 0.0 && (courant_ <= 0.5 || (params.study_past_bound && courant_ <= 8.0))))
+  if (!(courant_ > 0.0 && (courant_ <= kCourantBound || (params.study_past_bound && courant_ <= 8.0))))
     throw std::invalid_argument("momentum flow: courant must be in (0, 0.5] (up to 8 in a study past the bound)");
   mu_ = tan_deg(bed_deg);
   if (!(params.floor_friction_deg >= 0.0 && params.floor_friction_deg < 89.0))
@@ -266,8 +269,14 @@ void MomentumFlow::step(GranularGrid& grid) {
   // the next step would still leave within one sub-step's Courant number
   // waits for it, and then moves the time gathered in one sub-step; not
   // under a landing's pressure (it relaxes step by step) nor with the
-  // cells of wake_all still to fail.
-  if (gather_steps_ && impacted_.empty() && !woken_all_ && fastest * (gathered_s_ + step_dt_s_) <= courant_ * d_) return;
+  // cells of wake_all still to fail. A layer may also gain speed over the
+  // span, at up to about g (set moving beside a failure, speeding down a
+  // slope): g T^2 stays within what the bound leaves over the sub-steps'
+  // Courant number, so (fastest + g T) T <= kCourantBound d.
+  const double span_next_s = gathered_s_ + step_dt_s_;
+  if (gather_steps_ && impacted_.empty() && !woken_all_ && fastest * span_next_s <= courant_ * d_ &&
+      kGravity_m_s2 * span_next_s * span_next_s <= (kCourantBound - courant_) * d_)
+    return;
   const double span_s = gathered_s_;
   gathered_s_ = 0.0;
   woken_all_ = false;

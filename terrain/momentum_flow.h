@@ -108,10 +108,12 @@ struct MomentumFlowParameters {
   double courant = 0.4;
   bool study_past_bound = false;
   // A slow flow gathers the world's steps: it waits while one sub-step over
-  // the time gathered and the next step would stay within `courant`, then
-  // moves that time in one sub-step (not under a landing's pressure, nor
-  // with wake_all's cells still to fail; docs/fast_flows.md, "Gathering
-  // steps"). Sessions gather; false: at least one sub-step every step.
+  // the time gathered and the next step, T, would stay within `courant`
+  // and a layer speeding up at g over T within what the stability bound
+  // leaves over it, then moves that time in one sub-step (not under a
+  // landing's pressure, nor with wake_all's cells still to fail;
+  // docs/fast_flows.md, "Gathering steps"). Sessions gather; false: at
+  // least one sub-step every step.
   bool gather_steps = false;
   // A channel's side walls, gap_m apart along the grid's y (0: none): the
   // layer rubs on both with Coulomb friction tan(delta_w) under its
@@ -194,8 +196,9 @@ struct MomentumFlowParameters {
 // steps. The sessions' soils give no grain size, hence no thin-layer law and
 // no rise of friction with speed; with the interface's lay-down their
 // collapses would run 20-51 % past the published law, with the mean
-// speed's within 11 % of it.
-MomentumFlowParameters session_flow_parameters();
+// speed's within 11 % of it. On top of `base` (a case's floor, grains and
+// walls: the report runs the DEM's columns with it).
+MomentumFlowParameters session_flow_parameters(MomentumFlowParameters base = {});
 
 // Savage-Hutter (2.23): K = 2 sec^2(phi) (1 -+ sqrt(1 - cos^2(phi) sec^2(delta))) - 1,
 // active (-) and passive (+); delta <= phi.
