@@ -239,7 +239,7 @@ void MomentumFlow::step(GranularGrid& grid) {
   last_substeps_ = 0;
   // At rest: nothing to do (a landing's pressure still relaxing keeps the
   // flow stepping until it ends).
-  if (moving_.empty() && candidates_.empty() && impacted_.empty()) {
+  if (at_rest()) {
     gathered_s_ = 0.0;
     return;
   }

@@ -265,6 +265,12 @@ TEST(MomentumFlow, ADamBreakStaysBelowItsDamWithinTheBoundAndRisesPastIt) {
   EXPECT_THROW(MomentumFlow(g, p, 0.002), std::invalid_argument);
 }
 
+// How far a Coulomb block sent at v0 slides at friction angle delta:
+// v0^2 / (2 g tan delta).
+double coulomb_block_m(double v0_m_s, double delta_deg) {
+  return v0_m_s * v0_m_s / (2.0 * kGravity_m_s2 * std::tan(deg_to_rad(delta_deg)));
+}
+
 // A thin slab sliding on the bare base at v0 is a Coulomb block: the net
 // pressure of a free surface on a level base is nil, so friction alone takes
 // its momentum and its centre of mass stops v0^2 / (2 g tan delta) on (at
@@ -307,7 +313,7 @@ TEST(MomentumFlow, GatheringStepsSlidesTheCoulombBlockAsFarInFewerSubSteps) {
   MomentumFlowParameters every, gathering;
   gathering.gather_steps = true;
   long every_n = 0, gathering_n = 0;
-  const double block = v0 * v0 / (2.0 * kGravity_m_s2 * std::tan(deg_to_rad(SoilFlowParameters{}.flowing_friction_deg())));
+  const double block = coulomb_block_m(v0, SoilFlowParameters{}.flowing_friction_deg());
   const double a = slab_slide_m(every, v0, SoilFlowParameters{}, 0.0, &every_n);
   const double b = slab_slide_m(gathering, v0, SoilFlowParameters{}, 0.0, &gathering_n);
   std::printf("[ measured ] the slab slid %.3f m in %ld sub-steps, gathering steps %.3f m in %ld (Coulomb block %.3f m)\n", a, every_n, b,
@@ -327,8 +333,7 @@ TEST(MomentumFlow, ASlabOnTheBareFloorSlidesAsACoulombBlockAtTheFloorsFriction) 
   for (double floor_deg : {0.0, 20.0}) {
     MomentumFlowParameters p;
     p.floor_friction_deg = floor_deg;
-    const double mu = std::tan((floor_deg > 0.0 ? floor_deg : SoilFlowParameters{}.flowing_friction_deg()) * kPi / 180.0);
-    const double block = v0 * v0 / (2.0 * kGravity_m_s2 * mu);
+    const double block = coulomb_block_m(v0, floor_deg > 0.0 ? floor_deg : SoilFlowParameters{}.flowing_friction_deg());
     const double slid = slab_slide_m(p, v0);
     std::printf("[ measured ] floor %g deg: the slab's centre slid %.3f m (Coulomb block %.3f m)\n", floor_deg, slid, block);
     EXPECT_GE(slid, 0.95 * block) << floor_deg;
