@@ -35,6 +35,7 @@ double earth_pressure_passive(double phi_deg, double delta_deg) { return earth_p
 MomentumFlowParameters session_flow_parameters(MomentumFlowParameters p) {
   p.owns_cells = true;
   p.deposition = MomentumFlowParameters::Deposition::kMeanSpeed;
+  p.front_feed = MomentumFlowParameters::FrontFeed::kTaper;
   p.gather_steps = true;
   return p;
 }
@@ -55,6 +56,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
       raining_(params.raining),
       erosion_(params.erosion),
       owns_cells_(params.owns_cells),
+      taper_feed_(params.front_feed == MomentumFlowParameters::FrontFeed::kTaper),
       deposition_(params.deposition),
       layer_depth_(params.layer_depth) {
   const SoilFlowParameters& soil = grid.soil();
@@ -147,6 +149,11 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
   event_bed_m_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  fed_path_.reserve(taper_feed_ ? n : 1);
+  if (taper_feed_) {
+    fed_stamp_.assign(n, 0u);
+    fed_memo_.assign(n, 0);
+  }
   impact_c_ = soil.impact_sheet_speed_ratio;
   impact_min_sheet2_m2_s2_ = 2.0 * mu_ * kGravity_m_s2 * d_;
   if (impact_c_ > 0.0) {
@@ -580,6 +587,7 @@ void MomentumFlow::settle(const GranularGrid& grid) {
     flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
   }
   layer_.resize(candidates_.size());
+  new_feed_pass();
   for (std::size_t n = 0; n < candidates_.size(); ++n)
     layer_[n] = lies_down(grid, candidates_[n], flowing_[candidates_[n]]) ? 0 : flowing_[candidates_[n]];
   for (std::size_t n = 0; n < candidates_.size(); ++n) flowing_[candidates_[n]] = layer_[n];

@@ -188,12 +188,24 @@ struct MomentumFlowParameters {
   //     half the DEM's travel; kept for the comparison (docs/fast_flows.md).
   enum class Deposition { kInterface, kMeanSpeed };
   Deposition deposition = Deposition::kInterface;
+  // Which thin layer (thinner than h_stop, on a bed of grains) a thicker
+  // one feeds, so that it flows on instead of lying down
+  // (docs/fast_flows.md, "The front's taper"):
+  //   kNextCell (the default): a neighbour at least h_stop thick moving
+  //     into it: a front tapering over one cell is fed, one tapering over
+  //     several is not, so the finer the cells the more of a front lies down.
+  //   kTaper: the taper moving into it, followed upstream cell by cell
+  //     (each thicker than the last) to a layer at least h_stop thick: the
+  //     front of a layer is pushed on by the layer behind it however many
+  //     cells it spans, a rule that does not depend on the cell size.
+  enum class FrontFeed { kNextCell, kTaper };
+  FrontFeed front_feed = FrontFeed::kNextCell;
   int max_substeps = 64;
 };
 
 // The flow the sessions run (docs/fast_flows.md, "Which flow the sessions
-// run"): owning its cells with the mean speed's lay-down, and gathering
-// steps. The sessions' soils give no grain size, hence no thin-layer law and
+// run"): owning its cells with the mean speed's lay-down, its fronts fed
+// along their taper, and gathering steps. The sessions' soils give no grain size, hence no thin-layer law and
 // no rise of friction with speed; with the interface's lay-down their
 // collapses would run 20-51 % past the published law, with the mean
 // speed's within 11 % of it. On top of `base` (a case's floor, grains and
@@ -279,7 +291,8 @@ class MomentumFlow {
   // Bytes of state per cell: two face velocities, the flowing and raining
   // layers, the rain's speed, the core, the quanta across two faces in a
   // sub-step and four flags; the moving list comes on top (and, with a bed
-  // start angle or an impact sheet ratio, their fields: docs/fast_flows.md).
+  // start angle, an impact sheet ratio or the taper's feed, their fields:
+  // docs/fast_flows.md).
   static constexpr std::size_t kStateBytesPerCell =
       4 * sizeof(double) + 4 * sizeof(std::int64_t) + 4 * sizeof(std::uint8_t);
 
@@ -304,10 +317,13 @@ class MomentumFlow {
   void relax_core(const GranularGrid& grid);
   template <bool kTrack>
   void relax_core_passes(const GranularGrid& grid);
-  // Whether a neighbour's flowing layer of at least h_stop moves into the
-  // cell across a face (the passes that change layers read it before they
-  // write any: layer_).
+  // Whether a flowing layer of at least h_stop moves into the cell: a
+  // neighbour's across a face, or with FrontFeed::kTaper one at the head of
+  // the taper moving into it (the passes that change layers read it before
+  // they write any: layer_).
   bool fed(const GranularGrid& grid, int cell) const;
+  // Starts a pass that reads fed (its layers and faces fixed until it ends).
+  void new_feed_pass();
   // The cell's bed (m): its surface less its flowing layer and its rain.
   double bed_m(const GranularGrid& grid, int cell) const;
   // The bed the flow event found under the cell as the failure alone (no
@@ -372,7 +388,7 @@ class MomentumFlow {
   bool gather_steps_ = false, woken_all_ = false;  // woken_all_: wake_all's cells not yet moved
   double gathered_s_ = 0.0;                         // the time gathered since the flow last moved (s)
   long substeps_run_ = 0, pressed_steps_ = 0;
-  bool raining_ = true, erosion_ = true, owns_cells_ = false;
+  bool raining_ = true, erosion_ = true, owns_cells_ = false, taper_feed_ = false;
   MomentumFlowParameters::Deposition deposition_ = MomentumFlowParameters::Deposition::kInterface;
   std::vector<double> slowed_from_;  // owns_cells: the candidates' speeds before a sub-step (m/s)
   std::vector<double> slowed_to_;    // kInterface: each candidate's face factor h_f / h_f' (1: none laid down)
@@ -415,6 +431,13 @@ class MomentumFlow {
   // nothing moves). Erosion cuts below it only where it stands past the
   // bed's start angle.
   std::vector<double> event_bed_m_;
+  // FrontFeed::kTaper: per cell the pass its answer was found in and the
+  // answer (a pass walks each taper once), and the walk's cells (sized to
+  // the grid: the step does not allocate).
+  mutable std::vector<std::uint32_t> fed_stamp_;
+  mutable std::vector<std::uint8_t> fed_memo_;
+  mutable std::vector<int> fed_path_;
+  std::uint32_t feed_pass_ = 0;
   std::vector<int> in_event_;  // the cells holding a level
   std::vector<double> bed_floor_m_;  // fail: how low erosion may cut a cell's core, by candidates_
   std::vector<double> core_;  // per cell: the stable core's surface (m), examined cells only

@@ -47,16 +47,52 @@ void MomentumFlow::raster_order_candidates() {
 }
 
 bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
-  // A face moving into the cell from a neighbour's flowing layer.
-  const std::array<int, 4> f = faces_of(cell);
-  const int i = cell % nx_, j = cell / nx_;
-  const double into[4] = {-ux_face_[f[0]], ux_face_[f[1]], -uy_face_[f[2]], uy_face_[f[3]]};
-  for (int k = 0; k < 4; ++k) {
-    if (!(into[k] > 0.0)) continue;
-    const int nb = neighbour(grid, i, j, k);
-    if (nb >= 0 && flowing_[nb] * kHeightQuantumM >= min_layer_m_) return true;
+  // Faces moving into the cell from a neighbour's flowing layer; with the
+  // taper, on to the thickest such neighbour while each is thicker than the
+  // last (so the walk ends). Every cell the walk passes has the same answer
+  // (its own walk is the rest of this one): with the taper they keep it for
+  // the rest of the pass (feed_pass_), so a pass walks each taper once.
+  fed_path_.clear();
+  bool found = false;
+  while (true) {
+    if (taper_feed_ && fed_stamp_[cell] == feed_pass_) {
+      found = fed_memo_[cell] != 0;
+      break;
+    }
+    fed_path_.push_back(cell);
+    const std::array<int, 4> f = faces_of(cell);
+    const int i = cell % nx_, j = cell / nx_;
+    const double into[4] = {-ux_face_[f[0]], ux_face_[f[1]], -uy_face_[f[2]], uy_face_[f[3]]};
+    int upstream = -1;
+    std::int64_t thickest = flowing_[cell];
+    for (int k = 0; k < 4 && !found; ++k) {
+      if (!(into[k] > 0.0)) continue;
+      const int nb = neighbour(grid, i, j, k);
+      if (nb < 0) continue;
+      found = flowing_[nb] * kHeightQuantumM >= min_layer_m_;
+      if (flowing_[nb] > thickest) {
+        thickest = flowing_[nb];
+        upstream = nb;
+      }
+    }
+    if (found || !taper_feed_ || upstream < 0) break;
+    cell = upstream;
   }
-  return false;
+  if (taper_feed_) {
+    for (int c : fed_path_) {
+      fed_stamp_[c] = feed_pass_;
+      fed_memo_[c] = found ? 1 : 0;
+    }
+  }
+  return found;
+}
+
+void MomentumFlow::new_feed_pass() {
+  if (!taper_feed_) return;
+  if (++feed_pass_ == 0) {  // wrapped: no stamp may match a pass still to come
+    std::fill(fed_stamp_.begin(), fed_stamp_.end(), 0u);
+    feed_pass_ = 1;
+  }
 }
 
 double MomentumFlow::bed_m(const GranularGrid& grid, int cell) const {
@@ -143,6 +179,7 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // the pass.
   layer_.resize(candidates_.size());
   keep_.assign(candidates_.size(), 1.0);
+  new_feed_pass();
   for (std::size_t n = 0; n < candidates_.size(); ++n) {
     const int c = candidates_[n];
     const std::int64_t q = grid.loose_quanta(c);
