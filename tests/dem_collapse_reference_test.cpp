@@ -381,7 +381,7 @@ TEST(DemCollapse, ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes) {
 // 2.5 cm, with the flow the sessions run (terrain::session_flow_parameters).
 // Their own flow law (Coulomb at the stop angle, no thin-layer law) is not
 // the DEM material's, so this is the dump's footprint a trainee sees, not a
-// calibration: its edge within 15 % of the DEM's (dry_sand +7 / +4 %,
+// calibration: its edge within 15 % of the DEM's (dry_sand +7 / +1 %,
 // lete_sand +1 / -2 %), where with the fall lost it is 17-29 % short; its
 // mass where the DEM's lies within 0.12 at every distance from the axis
 // (0.06-0.08; with the fall lost 0.15-0.19); its middle stands taller than

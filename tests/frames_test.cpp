@@ -86,7 +86,7 @@ TEST_F(SessionFrames, CamerasFollowTheMachineOrStandWhereTheExerciseSays) {
   EXPECT_THROW(visual::exercise_camera("drone", ex_, *world_), std::invalid_argument);
 }
 
-// After the script's first bucket fill (470 kg aboard at 6 s), the
+// After the script's first bucket fill (479 kg aboard at 6 s), the
 // bucket's automaton is drawn: taking its field out of the scene changes
 // sand-coloured pixels where the load is.
 TEST_F(SessionFrames, ShowTheBucketsLoadAfterFilling) {
