@@ -149,8 +149,8 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
   rain_speed_.assign(n, 0.0);
   fell_.assign(n, 0);
   event_bed_m_.assign(n, std::numeric_limits<double>::quiet_NaN());
-  fed_path_.reserve(taper_feed_ ? n : 1);
   if (taper_feed_) {
+    fed_path_.reserve(n);
     fed_stamp_.assign(n, 0u);
     fed_memo_.assign(n, 0);
   }
@@ -575,47 +575,6 @@ void MomentumFlow::carry_momentum(const GranularGrid& grid) {
   for (std::size_t n = 0; n < y_faces_.size(); ++n) new_y_[n] = carried(false, y_faces_[n], uy_face_[y_faces_[n]]);
   for (std::size_t n = 0; n < x_faces_.size(); ++n) ux_face_[x_faces_[n]] = new_x_[n];
   for (std::size_t n = 0; n < y_faces_.size(); ++n) uy_face_[y_faces_[n]] = new_y_[n];
-}
-
-void MomentumFlow::settle(const GranularGrid& grid) {
-  // The moving cells: a flowing layer of at least h_stop with a face that
-  // moves. A layer that has stopped, or thinned below h_stop, lies down as
-  // static soil, and the faces it fed stand still.
-  moving_.clear();
-  for (int c : candidates_) {
-    rain_[c] = std::min(rain_[c], grid.loose_quanta(c));
-    flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
-  }
-  layer_.resize(candidates_.size());
-  new_feed_pass();
-  for (std::size_t n = 0; n < candidates_.size(); ++n)
-    layer_[n] = lies_down(grid, candidates_[n], flowing_[candidates_[n]]) ? 0 : flowing_[candidates_[n]];
-  for (std::size_t n = 0; n < candidates_.size(); ++n) flowing_[candidates_[n]] = layer_[n];
-  // Cells that only received this sub-step are among the candidates (the
-  // moving cells' neighbours), so every changed layer is seen above.
-  auto donor_still = [&](int face, bool x, double u) {
-    // The donor: the cell on the face's minus side for u > 0, else its plus side.
-    const int n = x ? nx_ + 1 : nx_, i = face % n, j = face / n;
-    const int di = x && u > 0.0 ? -1 : 0, dj = !x && u > 0.0 ? -1 : 0;
-    if (i + di < 0 || i + di >= nx_ || j + dj < 0 || j + dj >= ny_) return false;
-    const int donor = grid.index(i + di, j + dj);
-    return !grid.covered(donor) && flowing_[donor] > 0;
-  };
-  for (int f : x_faces_)
-    if (ux_face_[f] != 0.0 && !donor_still(f, true, ux_face_[f])) ux_face_[f] = 0.0;
-  for (int f : y_faces_)
-    if (uy_face_[f] != 0.0 && !donor_still(f, false, uy_face_[f])) uy_face_[f] = 0.0;
-  for (int c : candidates_) {
-    if (rain_[c] > 0) {
-      moving_.push_back(c);
-      continue;
-    }
-    if (flowing_[c] == 0) continue;
-    const std::array<int, 4> f = faces_of(c);
-    const bool moves = ux_face_[f[0]] != 0.0 || ux_face_[f[1]] != 0.0 || uy_face_[f[2]] != 0.0 || uy_face_[f[3]] != 0.0;
-    if (moves) moving_.push_back(c);
-    else flowing_[c] = 0;
-  }
 }
 
 }  // namespace skidsim::terrain

@@ -205,10 +205,10 @@ struct MomentumFlowParameters {
 
 // The flow the sessions run (docs/fast_flows.md, "Which flow the sessions
 // run"): owning its cells with the mean speed's lay-down, its fronts fed
-// along their taper, and gathering steps. The sessions' soils give no grain size, hence no thin-layer law and
-// no rise of friction with speed; with the interface's lay-down their
-// collapses would run 20-51 % past the published law, with the mean
-// speed's within 11 % of it. On top of `base` (a case's floor, grains and
+// along their taper, and gathering steps. The sessions' soils give no
+// grain size, hence no thin-layer law and no rise of friction with speed;
+// with the interface's lay-down their collapses would run 20-51 % past the
+// published law, with the mean speed's within 11 % of it. On top of `base` (a case's floor, grains and
 // walls: the report runs the DEM's columns with it).
 MomentumFlowParameters session_flow_parameters(MomentumFlowParameters base = {});
 

@@ -1,6 +1,7 @@
 // The fast flow's failure (terrain/momentum_flow.h): the stable core under
-// the examined cells, what fails above it, raining and the layers thinner
-// than h_stop lying down; docs/fast_flows.md.
+// the examined cells, what fails above it, raining, and the layers thinner
+// than h_stop lying down (in the failure and as a sub-step settles: fed,
+// the front's feed); docs/fast_flows.md.
 #include "terrain/momentum_flow.h"
 #include "common/physical_constants.h"
 #include "terrain/momentum_flow_cells.h"
@@ -52,14 +53,14 @@ bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
   // last (so the walk ends). Every cell the walk passes has the same answer
   // (its own walk is the rest of this one): with the taper they keep it for
   // the rest of the pass (feed_pass_), so a pass walks each taper once.
-  fed_path_.clear();
+  if (taper_feed_) fed_path_.clear();
   bool found = false;
   while (true) {
-    if (taper_feed_ && fed_stamp_[cell] == feed_pass_) {
+    if (taper_feed_ && feed_pass_ != 0 && fed_stamp_[cell] == feed_pass_) {
       found = fed_memo_[cell] != 0;
       break;
     }
-    fed_path_.push_back(cell);
+    if (taper_feed_) fed_path_.push_back(cell);
     const std::array<int, 4> f = faces_of(cell);
     const int i = cell % nx_, j = cell / nx_;
     const double into[4] = {-ux_face_[f[0]], ux_face_[f[1]], -uy_face_[f[2]], uy_face_[f[3]]};
@@ -311,6 +312,47 @@ void MomentumFlow::relax_core_passes(const GranularGrid& grid) {
     else
       for (std::size_t n = candidates_.size(); n-- > 0;) changed = relax(n, -1) || changed;
     if (!changed && pass > 0) break;
+  }
+}
+
+void MomentumFlow::settle(const GranularGrid& grid) {
+  // The moving cells: a flowing layer of at least h_stop with a face that
+  // moves. A layer that has stopped, or thinned below h_stop, lies down as
+  // static soil, and the faces it fed stand still.
+  moving_.clear();
+  for (int c : candidates_) {
+    rain_[c] = std::min(rain_[c], grid.loose_quanta(c));
+    flowing_[c] = std::min(flowing_[c], grid.loose_quanta(c) - rain_[c]);
+  }
+  layer_.resize(candidates_.size());
+  new_feed_pass();
+  for (std::size_t n = 0; n < candidates_.size(); ++n)
+    layer_[n] = lies_down(grid, candidates_[n], flowing_[candidates_[n]]) ? 0 : flowing_[candidates_[n]];
+  for (std::size_t n = 0; n < candidates_.size(); ++n) flowing_[candidates_[n]] = layer_[n];
+  // Cells that only received this sub-step are among the candidates (the
+  // moving cells' neighbours), so every changed layer is seen above.
+  auto donor_still = [&](int face, bool x, double u) {
+    // The donor: the cell on the face's minus side for u > 0, else its plus side.
+    const int n = x ? nx_ + 1 : nx_, i = face % n, j = face / n;
+    const int di = x && u > 0.0 ? -1 : 0, dj = !x && u > 0.0 ? -1 : 0;
+    if (i + di < 0 || i + di >= nx_ || j + dj < 0 || j + dj >= ny_) return false;
+    const int donor = grid.index(i + di, j + dj);
+    return !grid.covered(donor) && flowing_[donor] > 0;
+  };
+  for (int f : x_faces_)
+    if (ux_face_[f] != 0.0 && !donor_still(f, true, ux_face_[f])) ux_face_[f] = 0.0;
+  for (int f : y_faces_)
+    if (uy_face_[f] != 0.0 && !donor_still(f, false, uy_face_[f])) uy_face_[f] = 0.0;
+  for (int c : candidates_) {
+    if (rain_[c] > 0) {
+      moving_.push_back(c);
+      continue;
+    }
+    if (flowing_[c] == 0) continue;
+    const std::array<int, 4> f = faces_of(c);
+    const bool moves = ux_face_[f[0]] != 0.0 || ux_face_[f[1]] != 0.0 || uy_face_[f[2]] != 0.0 || uy_face_[f[3]] != 0.0;
+    if (moves) moving_.push_back(c);
+    else flowing_[c] = 0;
   }
 }
 

@@ -286,14 +286,12 @@ TEST(SkidsimRun, SiteSafetyScoresThePeopleOnSite) {
   ASSERT_EQ(safe["agents"].size(), 2u);
   EXPECT_EQ(safe["agents"][0]["id"], "dump_truck");
   EXPECT_GT(safe["agents"][0]["docked_at_s"].get<double>(), 0.0) << "backed in to its spot";
-  // Loaded, it leaves: the truck reads its bed at the start of a step and
-  // the session ends after the step that completes its load, so a load
-  // reached on that last step leaves it docked, its bed full.
-  const bool loaded_on_the_last_step =
-      safe["result"]["tasks"][0]["done_at_s"].get<double>() == safe["metrics"]["completion_time_s"].get<double>();
-  EXPECT_TRUE(safe["agents"][0]["phase"] == "leaving" || safe["agents"][0]["phase"] == "gone" ||
-              (loaded_on_the_last_step && safe["agents"][0]["phase"] == "docked"))
-      << safe["agents"].dump();
+  // The truck reads its bed at the start of a world step and the session
+  // ends on the tick that completes the load, so a load reached on that
+  // tick's last step leaves it docked, its bed full (as now); that a loaded
+  // truck leaves is agents_test's and world_agents_test's.
+  const std::string phase = safe["agents"][0]["phase"];
+  EXPECT_TRUE(phase == "docked" || phase == "leaving" || phase == "gone") << safe["agents"].dump();
   const auto& unsafe = report[1];
   EXPECT_FALSE(unsafe["result"]["passed"].get<bool>());
   EXPECT_EQ(unsafe["metrics"]["people_collisions"], 1.0);
