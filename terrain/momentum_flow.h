@@ -208,8 +208,9 @@ struct MomentumFlowParameters {
 // along their taper, and gathering steps. The sessions' soils give no
 // grain size, hence no thin-layer law and no rise of friction with speed;
 // with the interface's lay-down their collapses would run 20-51 % past the
-// published law, with the mean speed's within 11 % of it. On top of `base` (a case's floor, grains and
-// walls: the report runs the DEM's columns with it).
+// published law, with the mean speed's within 11 % of it. On top of
+// `base` (a case's floor, grains and walls: the report runs the DEM's
+// columns with it).
 MomentumFlowParameters session_flow_parameters(MomentumFlowParameters base = {});
 
 // Savage-Hutter (2.23): K = 2 sec^2(phi) (1 -+ sqrt(1 - cos^2(phi) sec^2(delta))) - 1,
