@@ -36,6 +36,7 @@ MomentumFlowParameters session_flow_parameters(MomentumFlowParameters p) {
   p.owns_cells = true;
   p.deposition = MomentumFlowParameters::Deposition::kMeanSpeed;
   p.front_feed = MomentumFlowParameters::FrontFeed::kTaper;
+  p.laid_down_holds = true;
   p.gather_steps = true;
   return p;
 }
@@ -58,6 +59,7 @@ MomentumFlow::MomentumFlow(const GranularGrid& grid, const MomentumFlowParameter
       owns_cells_(params.owns_cells),
       taper_feed_(params.front_feed == MomentumFlowParameters::FrontFeed::kTaper),
       deposition_(params.deposition),
+      laid_down_holds_(params.laid_down_holds),
       layer_depth_(params.layer_depth) {
   const SoilFlowParameters& soil = grid.soil();
   const double bed_deg = params.bed_friction_deg > 0.0 ? params.bed_friction_deg : soil.flowing_friction_deg();
@@ -340,6 +342,10 @@ void MomentumFlow::lay_down_slowed() {
                                         : flowing_[c] - static_cast<std::int64_t>(h * (before - after) / before);
     if (kept == flowing_[c]) continue;
     if (interface && kept > 0) slowed_to_[n] = h / static_cast<double>(kept);
+    // What it lays down joins the bed its event found (a NaN found bed: the
+    // soil has no bed start angle).
+    if (laid_down_holds_ && !std::isnan(event_bed_m_[c]))
+      event_bed_m_[c] += static_cast<double>(flowing_[c] - kept) * kHeightQuantumM;
     flowing_[c] = kept;  // (none kept: the layer has lain down, and settle stops its faces)
   }
   if (!interface) return;

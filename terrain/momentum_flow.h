@@ -36,8 +36,9 @@
 // deep bed) the layer carries away what its event laid down, and the bed
 // the event found only where that bed, as the failure alone leaves it,
 // stands past the start angle: a deep bed at rest below it holds under a
-// passing layer (the DEM's erodible bed). This is the fast limit of BCRE's exchange
-// between rolling and static grains (Bouchaud et al. 1994), whose rate, the
+// passing layer (the DEM's erodible bed; with laid_down_holds, what a
+// slowing layer lays down joins that bed). This is the fast limit of
+// BCRE's exchange between rolling and static grains (Bouchaud et al. 1994), whose rate, the
 // flow's speed over a grain, is 10^2-10^4 per second: fast beside a
 // collapse's or a dump's second.
 // Raining (Larrieu, Staron and Hinch 2006, "Raining into shallow water as a
@@ -188,6 +189,15 @@ struct MomentumFlowParameters {
   //     half the DEM's travel; kept for the comparison (docs/fast_flows.md).
   enum class Deposition { kInterface, kMeanSpeed };
   Deposition deposition = Deposition::kInterface;
+  // What a slowing layer lays down (owns_cells) joins the bed its event
+  // found: with the soil's bed start angle, a passing layer erodes it only
+  // where it stands past that angle, as it does a bed at rest (the DEM's
+  // collapses: the layers that come to rest under the running grains stay
+  // at rest, dem/collapse/results/profile_tube_a*.csv's rest_layers;
+  // docs/fast_flows.md, "What a layer lays down"). false: the event's own
+  // deposits stay erodible down to the bed it found. Nothing changes for a
+  // soil with no bed start angle (the sessions' sands).
+  bool laid_down_holds = false;
   // Which thin layer (thinner than h_stop, on a bed of grains) a thicker
   // one feeds, so that it flows on instead of lying down
   // (docs/fast_flows.md, "The front's taper"):
@@ -205,12 +215,12 @@ struct MomentumFlowParameters {
 
 // The flow the sessions run (docs/fast_flows.md, "Which flow the sessions
 // run"): owning its cells with the mean speed's lay-down, its fronts fed
-// along their taper, and gathering steps. The sessions' soils give no
-// grain size, hence no thin-layer law and no rise of friction with speed;
-// with the interface's lay-down their collapses would run 20-51 % past the
-// published law, with the mean speed's within 11 % of it. On top of
-// `base` (a case's floor, grains and walls: the report runs the DEM's
-// columns with it).
+// along their taper, what it lays down holding as bed, and gathering
+// steps. The sessions' soils give no grain size, hence no thin-layer law
+// and no rise of friction with speed; with the interface's lay-down their
+// collapses would run 20-51 % past the published law, with the mean
+// speed's within 11 % of it. On top of `base` (a case's floor, grains and
+// walls: the report runs the DEM's columns with it).
 MomentumFlowParameters session_flow_parameters(MomentumFlowParameters base = {});
 
 // Savage-Hutter (2.23): K = 2 sec^2(phi) (1 -+ sqrt(1 - cos^2(phi) sec^2(delta))) - 1,
@@ -391,6 +401,7 @@ class MomentumFlow {
   long substeps_run_ = 0, pressed_steps_ = 0;
   bool raining_ = true, erosion_ = true, owns_cells_ = false, taper_feed_ = false;
   MomentumFlowParameters::Deposition deposition_ = MomentumFlowParameters::Deposition::kInterface;
+  bool laid_down_holds_ = false;
   std::vector<double> slowed_from_;  // owns_cells: the candidates' speeds before a sub-step (m/s)
   std::vector<double> slowed_to_;    // kInterface: each candidate's face factor h_f / h_f' (1: none laid down)
   std::vector<int> held_;            // owns_cells: the cells held from the automaton

@@ -133,20 +133,22 @@ TEST(FlowOwningItsCells, TheCalibratedTubesAgainstTheDem) {
 }
 
 // The flow the sessions run (terrain::session_flow_parameters: owning its
-// cells, the mean speed's lay-down, its fronts fed along their taper,
-// gathering steps) against every DEM column, each collapsed as released, at
-// the sessions' 10 and 5 cm cells (docs/fast_flows.md, "The front's taper").
-// Measured: r99 -6.5 to +7.9 % on the tubes at 12.5 grains per radius and
-// the slot, -4.8 / -7.7 % on the dropped column's edge (held at 15 %);
-// heights -8.1 to +1.9 % at a <= 2 and on the slot, a = 4's -15.1 / -15.4 %
-// (its middle flat where the DEM's is a cone; held at 15 %, a = 4 at 17 %);
-// t90 -15.8 to -4.4 % at a >= 1 and on the slot (held at 20 %; a = 0.5's
-// edge wedge leaves sooner, -24 / -21 %); r99 (the dropped column's edge)
-// at 10 and 5 cm within 0.05 r0 of each other (held at 0.06 r0: the rule
-// does not depend on the cell size, where the next cell's feed left 5 cm
-// 0.05-0.15 r0 short of 10 cm). At 25
-// grains per radius r99 +1.9 to +10.6 %, heights +0.1 to -19.2 % (held at
-// 12 and 20 %).
+// cells, the mean speed's lay-down, its fronts fed along their taper, what
+// it lays down holding as bed, gathering steps) against every DEM column,
+// each collapsed as released, at the sessions' 10 and 5 cm cells
+// (docs/fast_flows.md, "The front's taper" and "What a layer lays down").
+// Measured at 12.5 grains per radius: r99 -7.5 to +7.2 % on the tubes and
+// the slot, -4.8 / -10.7 % on the dropped column's edge (held at 15 %);
+// heights -12.9 to +1.9 % (held at 15 %); t90 -15.8 to -4.4 % at a >= 1
+// and on the slot (held at 20 %). a = 0.5's t90 is -21.1 %: that column
+// stands six grains tall, and the DEM's own t90 comes 11 % sooner with
+// twice the grains per radius, against which the model's is -8.7 % (held
+// at 25 % here, 20 % there). r99 at 10 and 5 cm within 0.04 r0 of each
+// other (held at 0.06 r0: the rule does not depend on the cell size, where
+// the next cell's feed left 5 cm 0.05-0.15 r0 short of 10 cm); the dropped
+// column's edge, read in whole cells, 1.60 / 1.50 r0 (held at a 10 cm
+// cell, 0.1 r0). At 25 grains per radius r99 +0.7 to +9.7 %, heights +0.1
+// to -15.1 %, t90 -10.7 to -5.4 % (held at 12, 16 and 20 %).
 TEST(FlowOwningItsCells, TheSessionsFlowAgainstEveryDemColumnAtTwoCellSizes) {
   const terrain::SoilFlowParameters sand = io::load_soil_table(io::default_soil_table_path()).at("dem_sand").flow;
   for (const char* folder : {"results", kWideTubeResults}) {
@@ -172,13 +174,48 @@ TEST(FlowOwningItsCells, TheSessionsFlowAgainstEveryDemColumnAtTwoCellSizes) {
         EXPECT_TRUE(run.books_exact && run.flow_at_rest) << where;
         EXPECT_LT(std::abs(runout), wide ? 0.12 : 0.15) << where;
         if (dropped) continue;  // its middle: ADroppedColumnSpreadsWithItsImpactAsTheDemsDoes
-        EXPECT_LT(std::abs(height), wide ? 0.20 : d.aspect > 2.0 ? 0.17 : 0.15) << where;
-        if (!wide && d.aspect >= 1.0) {
-          EXPECT_LT(std::abs(t90), 0.20) << where;
-        }
+        EXPECT_LT(std::abs(height), wide ? 0.16 : 0.15) << where;
+        EXPECT_LT(std::abs(t90), wide || d.aspect >= 1.0 ? 0.20 : 0.25) << where;
       }
-      EXPECT_NEAR(r99_at[1], r99_at[0], 0.06) << folder << ", " << column_name(d) << ": 5 against 10 cm";
+      // The dropped column's edge is read in whole cells: within one 10 cm
+      // cell (0.1 r0; the 1e-9 for the readings' rounding).
+      const bool dropped = d.drop_over_r0 > 0.0;
+      EXPECT_NEAR(r99_at[1], r99_at[0], dropped ? 0.1 + 1e-9 : 0.06) << folder << ", " << column_name(d) << ": 5 against 10 cm";
     }
+  }
+}
+
+// What a slowing layer lays down holds as bed (laid_down_holds, on in the
+// sessions' flow) only on a soil with a bed start angle: on dem_sand a = 4's
+// middle stands taller with it (0.834 r0 for 0.814 at 10 cm: the next layer
+// no longer carries off what came to rest on it, as the DEM's grains at
+// rest stay at rest), and on the sessions' sands, which have none, the
+// deposit is the same bit for bit (docs/fast_flows.md, "What a layer lays
+// down").
+TEST(FlowOwningItsCells, WhatALayerLaysDownHoldsOnlyOnASoilWithABedStartAngle) {
+  const auto table = io::load_soil_table(io::default_soil_table_path());
+  for (const DemColumn& d : read_dem_columns(repository_dem_dir())) {
+    if (!standing_tube(d) || d.aspect != 4.0) continue;
+    terrain::CollapseCase c = dem_column_case(d, 0.1, true, true);
+    c.momentum_params = terrain::session_flow_parameters(c.momentum_params);
+    const terrain::CollapseRun holds = terrain::run_column_collapse(c, table.at("dem_sand").flow);
+    c.momentum_params.laid_down_holds = false;
+    const terrain::CollapseRun erodes = terrain::run_column_collapse(c, table.at("dem_sand").flow);
+    std::printf("[ measured ] dem_sand, a = 4 at 0.1 m: height %.3f r0 with what it lays down holding, %.3f without (DEM %.2f)\n",
+                holds.final_height_over_r0, erodes.final_height_over_r0, d.height);
+    EXPECT_TRUE(holds.books_exact && erodes.books_exact);
+    EXPECT_GT(holds.final_height_over_r0, erodes.final_height_over_r0 + 0.01);
+  }
+  for (const char* name : {"dry_sand", "lete_sand"}) {
+    terrain::CollapseCase c = terrain::laboratory_column_case(2.0, 0.1);
+    c.momentum_params = terrain::session_flow_parameters();
+    const terrain::CollapseRun holds = terrain::run_column_collapse(c, table.at(name).flow);
+    c.momentum_params.laid_down_holds = false;
+    const terrain::CollapseRun erodes = terrain::run_column_collapse(c, table.at(name).flow);
+    EXPECT_GT(holds.runout_over_r0, 1.0) << name;
+    EXPECT_EQ(holds.deposit_volume_m3, erodes.deposit_volume_m3) << name;
+    EXPECT_EQ(holds.runout_over_r0, erodes.runout_over_r0) << name;
+    EXPECT_EQ(holds.steps, erodes.steps) << name;
   }
 }
 
