@@ -254,8 +254,10 @@ ReportSection collapse_dem_section(const ReportContext& ctx) {
       "the avalanche laid down and the bed it found where that bed stands past its start angle (" +
       fmt("%.1f", sand.bed_start_angle_deg) + " deg, the DEM's erodible bed); it runs beside the automaton, which keeps the slow avalanches. \"the "
       "sessions' flow\" is that flow set up as the sessions run it: owning the cells it moves (the automaton off them) and "
-      "laying a slowing layer's base down at the mean speed's rate, its thin fronts fed along their taper, gathering the "
-      "world's steps while it is slow (docs/fast_flows.md, \"Which flow the sessions run\", \"The front's taper\"). \"momentum, hydrostatic\" is the same "
+      "laying a slowing layer's base down at the mean speed's rate, what it lays down then holding as the bed the event found "
+      "(eroded only past its start angle), its thin fronts fed along their taper, gathering the world's steps while it is "
+      "slow (docs/fast_flows.md, \"Which flow the sessions run\", \"The front's taper\", \"What a layer lays down\"). "
+      "\"momentum, hydrostatic\" is the same "
       "without raining: the failed mass flows at once. The dropped column (a = 1 let go 4 r0 above the floor, as a "
       "bucket's load dumped from 2 m) falls as parcels (terrain/material_exchange.h) that land with their momentum "
       "and, with the fast flow, fall through the moving layer to the bed and press on the layer with their impact (as "

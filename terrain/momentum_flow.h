@@ -38,9 +38,9 @@
 // stands past the start angle: a deep bed at rest below it holds under a
 // passing layer (the DEM's erodible bed; with laid_down_holds, what a
 // slowing layer lays down joins that bed). This is the fast limit of
-// BCRE's exchange between rolling and static grains (Bouchaud et al. 1994), whose rate, the
-// flow's speed over a grain, is 10^2-10^4 per second: fast beside a
-// collapse's or a dump's second.
+// BCRE's exchange between rolling and static grains (Bouchaud et al.
+// 1994), whose rate, the flow's speed over a grain, is 10^2-10^4 per
+// second: fast beside a collapse's or a dump's second.
 // Raining (Larrieu, Staron and Hinch 2006, "Raining into shallow water as a
 // description of the collapse of a column of grains", J. Fluid Mech. 554):
 // failed material falls freely in its cell and lands on the flowing layer
@@ -127,8 +127,9 @@ struct MomentumFlowParameters {
   // A moving layer erodes the bed beneath it down to the bed friction (the
   // thick layer's, bed_friction_deg, not the thin-layer law's rise; Daerr
   // and Douady 1999); with the soil's bed_start_angle_deg, only what the
-  // flow event laid down and a bed past that angle (docs/fast_flows.md);
-  // false: the core holds the repose angle under moving layers too.
+  // flow event laid down (with laid_down_holds, not what a slowing layer
+  // lays down) and a bed past that angle (docs/fast_flows.md); false: the
+  // core holds the repose angle under moving layers too.
   bool erosion = true;
   // The bed friction rises with the layer's inertial number (the soil's
   // rate_friction_angle_deg and rate_friction_i0, terrain/flow_law.h; Jop,
@@ -439,9 +440,10 @@ class MomentumFlow {
   std::vector<std::uint8_t> fell_;  // its rain has landed in this event
   // Per cell, with a bed start angle: its bed's level (m) when this flow
   // event reached it, lowered where the failure alone (the start angle,
-  // not the erosion) lowers it (NaN: not in an event; an event ends when
-  // nothing moves). Erosion cuts below it only where it stands past the
-  // bed's start angle.
+  // not the erosion) lowers it, raised by what a slowing layer lays down
+  // with laid_down_holds (NaN: not in an event; an event ends when nothing
+  // moves). Erosion cuts below it only where it stands past the bed's
+  // start angle.
   std::vector<double> event_bed_m_;
   // FrontFeed::kTaper: per cell the pass its answer was found in and the
   // answer (a pass walks each taper once), and the walk's cells (sized to

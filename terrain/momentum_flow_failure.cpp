@@ -142,11 +142,13 @@ void MomentumFlow::fail(const GranularGrid& grid, double dt_s) {
   // a thick layer stops; the DEM's deposits lie at about theta_1; a bed
   // only a few grains deep is held to theta_1 too, an approximation,
   // docs/fast_flows.md); with a bed start angle, erosion takes what this
-  // flow event laid down, and the bed the event found only where that bed,
-  // as the failure alone leaves it, stands past the start angle (a deep bed
-  // at rest below it holds under a passing layer: the DEM's erodible bed;
-  // the failure alone, not the erosion's cuts, so that a notch cut into a
-  // bed below its start angle does not carry the bed above it away);
+  // flow event laid down (with laid_down_holds, not what a slowing layer
+  // lays down: it joins the found bed), and the bed the event found only
+  // where that bed, as the failure alone leaves it, stands past the start
+  // angle (a deep bed at rest below it holds under a passing layer: the
+  // DEM's erodible bed; the failure alone, not the erosion's cuts, so that
+  // a notch cut into a bed below its start angle does not carry the bed
+  // above it away);
   // everything above the core fails at once and joins the flowing layer,
   // the core stays. A column so keeps its
   // top while a < tan(repose) (Lajeunesse et al. 2004 and Lube et al. 2004
