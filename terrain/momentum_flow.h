@@ -451,7 +451,7 @@ class MomentumFlow {
   mutable std::vector<std::uint32_t> fed_stamp_;
   mutable std::vector<std::uint8_t> fed_memo_;
   mutable std::vector<int> fed_path_;
-  std::uint32_t feed_pass_ = 0;
+  std::uint32_t feed_pass_ = 0;  // fail and settle begin each pass with new_feed_pass, so a pass is >= 1
   std::vector<int> in_event_;  // the cells holding a level
   std::vector<double> bed_floor_m_;  // fail: how low erosion may cut a cell's core, by candidates_
   std::vector<double> core_;  // per cell: the stable core's surface (m), examined cells only

@@ -56,7 +56,7 @@ bool MomentumFlow::fed(const GranularGrid& grid, int cell) const {
   if (taper_feed_) fed_path_.clear();
   bool found = false;
   while (true) {
-    if (taper_feed_ && feed_pass_ != 0 && fed_stamp_[cell] == feed_pass_) {
+    if (taper_feed_ && fed_stamp_[cell] == feed_pass_) {
       found = fed_memo_[cell] != 0;
       break;
     }
